@@ -1,0 +1,10 @@
+# HULLPOSE_SANITIZE=address,undefined or thread: instrument every target.
+if(HULLPOSE_SANITIZE)
+  if(HULLPOSE_SANITIZE MATCHES "thread" AND HULLPOSE_SANITIZE MATCHES "address")
+    message(FATAL_ERROR "HULLPOSE_SANITIZE: thread cannot be combined with address")
+  endif()
+  set(_san "-fsanitize=${HULLPOSE_SANITIZE}" -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_compile_options(${_san})
+  add_link_options(${_san})
+  message(STATUS "hullpose: sanitizers ${HULLPOSE_SANITIZE}")
+endif()

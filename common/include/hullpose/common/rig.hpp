@@ -1,0 +1,42 @@
+#pragma once
+// The rig: every camera, the capture volume and the rig id. Shared by the camera nodes, the
+// fusion host, the synthetic rig and the calibration tool. Stored as YAML (cv::FileStorage),
+// format documented in docs/rig-file.md.
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hullpose/common/camera.hpp"
+
+namespace hullpose {
+
+struct CaptureVolume {
+  Eigen::Vector3d min_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d max_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d size_mm() const { return max_mm - min_mm; }
+};
+
+struct Rig {
+  static constexpr int kFormatVersion = 1;
+  static constexpr int kMaxImageSide = 8192;
+
+  std::string rig_id;
+  std::vector<CameraModel> cameras;
+  CaptureVolume volume;
+
+  // The camera with this id, or nullptr.
+  const CameraModel* find(int camera_id) const;
+  // Throws hullpose::Error naming the camera and field at fault (see rig.cpp for the rules).
+  void validate() const;
+};
+
+// Throws hullpose::Error naming the file, camera and field on any problem; the result is validated.
+Rig load_rig(const std::filesystem::path& path);
+// Validates, then writes; doubles are written so that load_rig(save_rig(r)) == r exactly.
+void save_rig(const Rig& rig, const std::filesystem::path& path);
+
+bool operator==(const CameraModel& a, const CameraModel& b);
+bool operator==(const Rig& a, const Rig& b);
+
+}  // namespace hullpose
