@@ -35,6 +35,13 @@ std::vector<PoseRecord> offset(std::vector<PoseRecord> records, const Eigen::Vec
   return records;
 }
 
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 struct Cli {
   int status = -1;
   std::string out, err;
@@ -259,6 +266,21 @@ TEST_CASE("an estimate with no valid frame still reports, with nulls") {
   write_json(json, r);
   CHECK(json.str().find("\"mpjpe_mm\":null,") != std::string::npos);
   CHECK(json.str().find("\"valid_pct\":0.000,") != std::string::npos);
+  std::ostringstream table;
+  write_table(table, r, {"ds", "est.csv", "walk"});
+  CHECK(std::regex_search(table.str(), std::regex(R"(all joints \(MPJPE\) +- mm)")));
+
+  // The page still renders, with empty plots, for no scored frame and for a single frame.
+  TempDir dir("empty");
+  const std::string html = slurp(write_html_report(dir.path / "none", r, {"ds", "est.csv", "walk"}));
+  CHECK(html.find("<svg class='plot' id='plot-joints'") != std::string::npos);
+  CHECK(html.find("nan") == std::string::npos);
+  const std::vector<PoseRecord> one(truth.begin(), truth.begin() + 1);
+  const EvalResult single = evaluate(one, as_estimates(one), walking_meta(1, kStature));
+  CHECK(single.all_joints.mean == 0);
+  const std::string html1 = slurp(write_html_report(dir.path / "one", single, {"ds", "est.csv", "walk"}));
+  CHECK(html1.find("nan") == std::string::npos);
+  CHECK(html1.find("inf") == std::string::npos);
 }
 
 TEST_CASE("--json carries the agreed keys and --report writes the page") {
@@ -277,11 +299,8 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
                           "lr_correct_pct", "stature_error_mm", "pck50_pct", "hands_feet_mpjpe_mm",
                           "mpjpe_median_mm", "mpjpe_std_mm", "per_joint", "RToe"})
     CHECK(c.out.find("\"" + std::string(key) + "\":") != std::string::npos);
-  std::ifstream in(dir.path / "rep" / "report.html");
-  REQUIRE(in);
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string html = text.str();
+  const std::string html = slurp(dir.path / "rep" / "report.html");
+  REQUIRE(!html.empty());
   size_t plots = 0;
   for (size_t at = html.find("<svg class='plot'"); at != std::string::npos; at = html.find("<svg class='plot'", at + 1)) ++plots;
   CHECK(plots == 5);
@@ -303,6 +322,9 @@ TEST_CASE("bad input gets a clear error naming the file") {
     CHECK(c.err.find(needle) != std::string::npos);
   };
   expect({"--est", est.string()}, "--gt DIR is required");
+  const Cli help = run({"--help"});
+  CHECK(help.status == 0);
+  CHECK(help.out.find("usage: hullpose-eval --gt DIR --est FILE") != std::string::npos);
   expect({"--gt", ds.string(), "--est"}, "--est needs a value");
   expect({"--gt", ds.string(), "--est", est.string(), "--frobnicate"}, "unknown argument '--frobnicate'");
   expect({"--gt", (dir.path / "nope").string(), "--est", est.string()}, "nope: not a dataset directory");
