@@ -304,7 +304,9 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
   size_t plots = 0;
   for (size_t at = html.find("<svg class='plot'"); at != std::string::npos; at = html.find("<svg class='plot'", at + 1)) ++plots;
   CHECK(plots == 5);
-  CHECK(html.find("http") == std::string::npos);  // self-contained: nothing to fetch
+  // Self-contained: nothing for the browser to fetch.
+  for (const char* fetch : {"src=", "href=", "<link", "url(", "@import", "fetch(", "XMLHttpRequest"})
+    CHECK(html.find(fetch) == std::string::npos);
   CHECK(html.find("walk (test)") != std::string::npos);
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
+#include <regex>
 #include <sstream>
 
 #include "fixtures.hpp"
@@ -83,6 +84,21 @@ int chromium(const std::string& args, const fs::path& dir, const std::string& ta
   return status;
 }
 
+// Appended to a copy of the report: hovers frame 62 (invalid) on the error plot and frame 42
+// (arms swapped) on the signed-error plot, recording the tooltip text on <body>.
+constexpr const char* kHoverScript = R"JS(<script>
+function hoverFrame(id, frame, attr) {
+  var svg = document.getElementById(id), d = svg.dataset, p = svg.createSVGPoint();
+  p.x = +d.px0 + (frame - d.lo) / (d.hi - d.lo) * (d.px1 - d.px0);
+  p.y = +d.top + 20;
+  p = p.matrixTransform(svg.getScreenCTM());
+  svg.dispatchEvent(new MouseEvent('mousemove', {clientX: p.x, clientY: p.y}));
+  document.body.setAttribute(attr, document.getElementById('tip').textContent);
+}
+hoverFrame('plot-frames', 62, 'data-hover-invalid');
+hoverFrame('plot-axis-bias', 42, 'data-hover-swap');
+</script>)JS";
+
 }  // namespace
 
 TEST_CASE("the report of a perturbed estimate renders in headless Chromium") {
@@ -110,6 +126,16 @@ TEST_CASE("the report of a perturbed estimate renders in headless Chromium") {
 
   // The page's script found ink in all five plots once laid out.
   CHECK(slurp(dir / "dom.html").find("data-plots-drawn=\"5/5\"") != std::string::npos);
+
+  // The pointer readout: a copy of the page that moves the pointer over two frames and keeps
+  // what the tooltip said.
+  std::ofstream(dir / "hover.html") << slurp(html) << kHoverScript;
+  REQUIRE(chromium("--dump-dom 'file://" + (dir / "hover.html").string() + "' > '" +
+                       (dir / "hover-dom.html").string() + "'",
+                   dir, "hover") == 0);
+  const std::string hover = slurp(dir / "hover-dom.html");
+  CHECK(hover.find("data-hover-invalid=\"frame 62 · invalid (pose_jump)all joints –") != std::string::npos);
+  CHECK(std::regex_search(hover, std::regex("data-hover-swap=\"frame 42 · scored, arms swappedx -?[0-9]+\\.[0-9] mm")));
 
   const cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
   REQUIRE(!shot.empty());

@@ -137,10 +137,20 @@ class SvgPlot {
 
   std::ostream& data() { return data_; }
 
+  // Lets the page's script map the pointer to a frame: data-hover names the readout, the rest
+  // is the x mapping (data units lo..hi at viewBox x px0..px1).
+  void hover(const std::string& readout) {
+    std::ostringstream a;
+    a << " data-hover='" << readout << "' data-lo='" << x_.lo << "' data-hi='" << x_.hi << "' data-px0='"
+      << px(x_.lo) << "' data-px1='" << px(x_.hi) << "' data-top='" << kTop << "' data-bottom='" << bottom() << "'";
+    attributes_ = a.str();
+  }
+
   std::string svg(const std::string& id, const std::string& aria) const {
     std::ostringstream s;
     s << "<svg class='plot' id='" << id << "' viewBox='0 0 " << width_ << ' ' << height_ << "' width='"
-      << width_ << "' height='" << height_ << "' role='img' aria-label='" << escape(aria) << "'>"
+      << width_ << "' height='" << height_ << "' role='img' aria-label='" << escape(aria) << "'"
+      << attributes_ << ">"
       << back_.str() << "<g class='data'>" << data_.str() << "</g>" << front_.str()
       << "<rect class='frame' x='" << kLeft << "' y='" << kTop << "' width='" << width_ - kLeft - kRight
       << "' height='" << bottom() - kTop << "'/></svg>";
@@ -151,6 +161,7 @@ class SvgPlot {
   double width_, height_;
   Range x_, y_;
   std::ostringstream back_, data_, front_;
+  std::string attributes_;
 };
 
 std::string legend(std::initializer_list<std::pair<const char*, std::string>> items, bool swatch = false) {
@@ -211,6 +222,7 @@ std::string per_frame_plot(const EvalResult& r) {
   plot.y_axis("mean error (mm)");
   plot.x_axis_numeric("frame");
   shade_failures(plot, r);
+  plot.hover("error");
   plot.series(xs, all, colours::kAllJoints, "mean error of all 25 joints");
   plot.series(xs, hf, colours::kHandsFeet, "mean error of hands and feet");
   if (std::isfinite(r.all_joints.mean))
@@ -224,6 +236,7 @@ std::string status_strip(const EvalResult& r) {
   const double height = 30;
   SvgPlot plot(kWide, height + SvgPlot::kTop + SvgPlot::kBottom, frame_range(r), {0, 1});
   plot.x_axis_numeric("frame");
+  plot.hover("status");
   auto cls = [](const FrameResult& f) {
     if (f.status == FrameStatus::Invalid) return 2;
     if (f.status == FrameStatus::Missing) return 3;
@@ -300,6 +313,7 @@ std::string axis_plot(const EvalResult& r, bool signed_error) {
   plot.y_axis(signed_error ? "mean signed error (mm)" : "mean |error| (mm)");
   plot.x_axis_numeric("frame");
   shade_failures(plot, r);
+  plot.hover(signed_error ? "bias" : "abs");
   const char* axis_colours[] = {colours::kAxisX, colours::kAxisY, colours::kAxisZ};
   for (size_t a = 0; a < 3; ++a)
     plot.series(xs, ys[a], axis_colours[a], std::string(1, static_cast<char>('x' + a)) + " error");
@@ -327,6 +341,37 @@ std::string joint_table(const EvalResult& r) {
   }
   t << "</tbody></table>";
   return t.str();
+}
+
+// The per-frame numbers for the pointer readout, as JSON arrays indexed like per_frame.
+std::string frames_json(const EvalResult& r) {
+  auto num = [](double v) { return std::isfinite(v) ? fmt(v, 1) : std::string("null"); };
+  std::ostringstream j;
+  j << "{";
+  auto array = [&](const char* key, auto value, bool last = false) {
+    j << '"' << key << "\":[";
+    for (size_t i = 0; i < r.per_frame.size(); ++i) j << (i ? "," : "") << value(r.per_frame[i]);
+    j << ']' << (last ? "" : ",");
+  };
+  array("frame", [](const FrameResult& f) { return std::to_string(f.frame); });
+  array("status", [](const FrameResult& f) {
+    if (f.status == FrameStatus::Scored)
+      return std::string(f.lr_arms_correct && f.lr_legs_correct ? "\"scored\""
+                         : !f.lr_arms_correct && !f.lr_legs_correct ? "\"scored, arms and legs swapped\""
+                         : !f.lr_arms_correct ? "\"scored, arms swapped\"" : "\"scored, legs swapped\"");
+    if (f.status == FrameStatus::Missing) return std::string("\"missing from the estimate\"");
+    return "\"invalid (" + reason_name(f.reason) + ")\"";
+  });
+  array("all", [&](const FrameResult& f) { return num(f.mean_mm); });
+  array("hf", [&](const FrameResult& f) { return num(f.hands_feet_mm); });
+  for (int a = 0; a < 3; ++a) {
+    const std::string abs_key = std::string("abs") + static_cast<char>('x' + a);
+    const std::string bias_key = std::string("bias") + static_cast<char>('x' + a);
+    array(abs_key.c_str(), [&](const FrameResult& f) { return num(f.axis_abs_mm[a]); });
+    array(bias_key.c_str(), [&](const FrameResult& f) { return num(f.axis_bias_mm[a]); }, a == 2);
+  }
+  j << "}";
+  return j.str();
 }
 
 constexpr const char* kStyle = R"CSS(
@@ -369,6 +414,10 @@ th { color: var(--muted); font-weight: 600; }
 dl { display: grid; grid-template-columns: 210px 1fr; gap: 4px 14px; margin: 0; font-size: 13px; }
 dt { font-weight: 600; }
 dd { margin: 0; color: #334155; }
+#tip { position: fixed; pointer-events: none; display: none; background: rgba(15,23,42,.92); color: #f8fafc;
+       font-size: 12px; padding: 6px 9px; border-radius: 6px; white-space: nowrap; z-index: 10; }
+#tip b { font-weight: 650; }
+svg .cursor { stroke: #0f172a; stroke-width: 1; stroke-opacity: .45; pointer-events: none; }
 )CSS";
 
 // Marks the page once the browser has laid the plots out, so a headless check can tell a
@@ -381,6 +430,44 @@ constexpr const char* kScript = R"JS(
     if (box && box.width > 0 && box.height > 0) drawn++;
   });
   document.body.setAttribute('data-plots-drawn', drawn + '/' + plots.length);
+})();
+// Pointer readout: the nearest frame's numbers under the cursor.
+(function () {
+  var data = JSON.parse(document.getElementById('frame-data').textContent);
+  var tip = document.getElementById('tip'), NS = 'http://www.w3.org/2000/svg';
+  function mm(v) { return v === null ? '–' : v.toFixed(1) + ' mm'; }
+  function lines(kind, i) {
+    if (kind === 'error') return ['all joints ' + mm(data.all[i]), 'hands + feet ' + mm(data.hf[i])];
+    if (kind === 'abs') return ['|x| ' + mm(data.absx[i]), '|y| ' + mm(data.absy[i]), '|z| ' + mm(data.absz[i])];
+    if (kind === 'bias') return ['x ' + mm(data.biasx[i]), 'y ' + mm(data.biasy[i]), 'z ' + mm(data.biasz[i])];
+    return [];
+  }
+  document.querySelectorAll('svg[data-hover]').forEach(function (svg) {
+    var d = svg.dataset, lo = +d.lo, hi = +d.hi, px0 = +d.px0, px1 = +d.px1;
+    var cursor = document.createElementNS(NS, 'line');
+    cursor.setAttribute('class', 'cursor');
+    cursor.setAttribute('y1', d.top);
+    cursor.setAttribute('y2', d.bottom);
+    cursor.style.display = 'none';
+    svg.appendChild(cursor);
+    svg.addEventListener('mousemove', function (e) {
+      var p = svg.createSVGPoint();
+      p.x = e.clientX; p.y = e.clientY;
+      p = p.matrixTransform(svg.getScreenCTM().inverse());
+      var f = lo + (p.x - px0) / (px1 - px0) * (hi - lo), a = 0, b = data.frame.length - 1;
+      while (b - a > 1) { var m = (a + b) >> 1; if (data.frame[m] <= f) a = m; else b = m; }
+      var i = Math.abs(data.frame[b] - f) < Math.abs(data.frame[a] - f) ? b : a;
+      var x = px0 + (data.frame[i] - lo) / (hi - lo) * (px1 - px0);
+      cursor.setAttribute('x1', x); cursor.setAttribute('x2', x);
+      cursor.style.display = '';
+      tip.innerHTML = '<b>frame ' + data.frame[i] + '</b> · ' + data.status[i] +
+                      lines(d.hover, i).map(function (l) { return '<br>' + l; }).join('');
+      tip.style.display = 'block';
+      tip.style.left = Math.min(e.clientX + 14, window.innerWidth - tip.offsetWidth - 8) + 'px';
+      tip.style.top = (e.clientY + 14) + 'px';
+    });
+    svg.addEventListener('mouseleave', function () { cursor.style.display = 'none'; tip.style.display = 'none'; });
+  });
 })();
 )JS";
 
@@ -476,7 +563,8 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
       << ", y " << fmt(r.axis_bias_mm.y()) << ", z " << fmt(r.axis_bias_mm.z()) << " mm.</dd>"
       << "</dl></section></div>";
 
-  out << "</main><script>" << kScript << "</script></body></html>\n";
+  out << "</main><div id='tip'></div><script type='application/json' id='frame-data'>" << frames_json(r)
+      << "</script><script>" << kScript << "</script></body></html>\n";
   HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
   return path;
 }
