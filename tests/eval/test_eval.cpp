@@ -173,6 +173,27 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
   }
 }
 
+TEST_CASE("per-frame statistics summarise the Fig. 6.1 curve") {
+  // Frame f is shifted by 10 f mm along x: per-frame means 0, 10, 20, 30, 40.
+  const auto truth = walking_truth(5, kStature);
+  auto est = as_estimates(truth);
+  for (auto& rec : est)
+    for (auto& p : rec.joints) p.x() += 10.0 * rec.frame;
+  est[1].valid = false;  // leaves 0, 20, 30, 40
+  const EvalResult r = evaluate(truth, est, walking_meta(5, kStature));
+  CHECK(r.frame_mean.count == 4);
+  CHECK(r.frame_mean.mean == Approx(22.5));
+  CHECK(r.frame_mean.median == Approx(25));
+  CHECK(r.frame_mean.std == Approx(std::sqrt((22.5 * 22.5 + 2.5 * 2.5 + 7.5 * 7.5 + 17.5 * 17.5) / 4)));
+  CHECK(r.frame_mean.max == Approx(40));
+  CHECK(r.worst_frame == 4);
+  CHECK(r.frame_hands_feet.median == Approx(25));
+  CHECK(r.all_joints.mean == Approx(r.frame_mean.mean));
+  CHECK(r.per_frame[3].mean_mm == Approx(30));
+  CHECK(r.per_frame[3].hands_feet_mm == Approx(30));
+  CHECK(r.per_frame[3].axis_bias_mm.x() == Approx(30));
+}
+
 TEST_CASE("left/right swaps are detected per limb") {
   const auto truth = walking_truth(kFrames, kStature);
   auto est = as_estimates(truth);
@@ -247,8 +268,13 @@ TEST_CASE("invalid and missing frames are counted, not scored and not dropped") 
   CHECK(c.out.find("\"missing_frames\":5,") != std::string::npos);
   CHECK(c.out.find("\"invalid_reasons\":{\"too_few_cameras\":1,\"pose_jump\":2}") != std::string::npos);
 
-  const Cli table = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string()});
+  const Cli table = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(),
+                         "--report", (dir.path / "rep").string()});
   REQUIRE(table.status == 0);
+  const std::string csv = slurp(dir.path / "rep" / "per_frame.csv");
+  CHECK(csv.find("\n0,missing,,,,,,,,,,,,,,\n") != std::string::npos);
+  CHECK(csv.find("\n10,invalid,pose_jump,,,,,,,,,,,,,\n") != std::string::npos);
+  CHECK(csv.find("\n12,scored,ok,0.000,") != std::string::npos);
   CHECK(std::regex_search(table.out, std::regex(R"(missing from the estimate file +5\n)")));
   CHECK(table.out.find("pose_jump=2") != std::string::npos);
 }
@@ -308,6 +334,11 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
   for (const char* fetch : {"src=", "href=", "<link", "url(", "@import", "fetch(", "XMLHttpRequest"})
     CHECK(html.find(fetch) == std::string::npos);
   CHECK(html.find("walk (test)") != std::string::npos);
+
+  const std::string csv = slurp(dir.path / "rep" / "per_frame.csv");
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == kFrames + 1);
+  CHECK(csv.rfind("frame,status,reason,mean_mm,", 0) == 0);
+  CHECK(csv.find("\n7,scored,ok,20.000,20.000,20.000,0.000,20.000,0.000,0.000,20.000,0.000,1,1,") != std::string::npos);
 }
 
 TEST_CASE("bad input gets a clear error naming the file") {

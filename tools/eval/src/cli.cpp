@@ -15,7 +15,7 @@ constexpr const char* kUsage =
     "  --gt DIR       dataset directory (meta.json, ground_truth.csv)\n"
     "  --est FILE     estimate CSV (frame,valid,reason,HeadTop_x,...,RToe_z)\n"
     "  --json         print one JSON object instead of the table\n"
-    "  --report DIR   also write DIR/report.html with the plots\n";
+    "  --report DIR   also write DIR/report.html (the plots) and DIR/per_frame.csv\n";
 
 struct Options {
   std::string gt, est, report;
@@ -65,6 +65,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       write_table(out, result, source);
     if (!o.report.empty()) {
       const auto path = write_html_report(o.report, result, source);
+      write_per_frame_csv(std::filesystem::path(o.report) / "per_frame.csv", result);
       if (!o.json) out << "\nreport: " << path.string() << '\n';
     }
     return 0;

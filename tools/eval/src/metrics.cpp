@@ -122,9 +122,10 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   EvalResult r;
   r.frames = static_cast<int>(truth.size());
   r.per_frame.reserve(truth.size());
-  std::vector<double> all, extremities, hands_feet, statures_est, statures_gt;
+  std::vector<double> all, extremities, hands_feet, statures_est, statures_gt, frame_means, frame_hf;
   std::array<std::vector<double>, kNumJoints> per_joint;
   int within50 = 0, within100 = 0, lr_both = 0, lr_arms = 0, lr_legs = 0;
+  double worst_mm = -1;
 
   size_t e = 0;
   for (const PoseRecord& gt : truth) {
@@ -170,6 +171,12 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
     f.mean_mm = std::accumulate(err.begin(), err.end(), 0.0) / kNumJoints;
     f.extremity_mm = mean_error(err, kExtremities);
     f.hands_feet_mm = mean_error(err, kHandsFeet);
+    frame_means.push_back(f.mean_mm);
+    frame_hf.push_back(f.hands_feet_mm);
+    if (f.mean_mm > worst_mm) {
+      worst_mm = f.mean_mm;
+      r.worst_frame = f.frame;
+    }
     for (Joint j : kExtremities) extremities.push_back(err[static_cast<size_t>(index(j))]);
     for (Joint j : kHandsFeet) hands_feet.push_back(err[static_cast<size_t>(index(j))]);
     f.lr_arms_correct = lr_correct(est->joints, gt.joints, Limb::Arms);
@@ -196,6 +203,8 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   r.extremities = box_stats(std::move(extremities));
   r.hands_feet = box_stats(std::move(hands_feet));
   for (size_t j = 0; j < kNumJoints; ++j) r.per_joint[j] = box_stats(std::move(per_joint[j]));
+  r.frame_mean = box_stats(std::move(frame_means));
+  r.frame_hands_feet = box_stats(std::move(frame_hf));
   r.pck50_pct = pct(within50, r.frames * kNumJoints);
   r.pck100_pct = pct(within100, r.frames * kNumJoints);
   r.pck50_valid_pct = pct(within50, scored * kNumJoints);

@@ -1,7 +1,9 @@
-// JSON and text-table output of an EvalResult.
+// JSON, text-table and per-frame CSV output of an EvalResult.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
+#include "hullpose/common/check.hpp"
 #include "hullpose/eval/report.hpp"
 
 namespace hullpose::eval {
@@ -65,6 +67,15 @@ void write_json(std::ostream& out, const EvalResult& r) {
     box_fields(o, "extremity", r.extremities);
     o.number("hands_feet_mpjpe_mm", r.hands_feet.mean);
     box_fields(o, "hands_feet", r.hands_feet);
+    o.number("frame_mpjpe_std_mm", r.frame_mean.std);
+    o.number("frame_mpjpe_median_mm", r.frame_mean.median);
+    o.number("frame_mpjpe_max_mm", r.frame_mean.max);
+    if (r.scored_frames > 0)
+      o.integer("worst_frame", r.worst_frame);
+    else
+      o.key("worst_frame") << "null";
+    o.number("frame_hands_feet_std_mm", r.frame_hands_feet.std);
+    o.number("frame_hands_feet_median_mm", r.frame_hands_feet.median);
     o.number("pck50_pct", r.pck50_pct);
     o.number("pck100_pct", r.pck100_pct);
     o.number("pck50_valid_pct", r.pck50_valid_pct);
@@ -124,6 +135,9 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   row("all joints (MPJPE)", stats(r.all_joints));
   row("extremities (head, hands, feet)", stats(r.extremities));
   row("hands and feet (thesis Fig. 6.1)", stats(r.hands_feet));
+  row("per-frame mean, all joints",
+      stats(r.frame_mean) + (r.scored_frames > 0 ? "  worst frame " + std::to_string(r.worst_frame) : ""));
+  row("per-frame mean, hands and feet", stats(r.frame_hands_feet));
   row("mean |error| x / y / z", fixed(r.axis_abs_mm.x(), 1, "-") + " / " +
                                    fixed(r.axis_abs_mm.y(), 1, "-") + " / " +
                                    fixed(r.axis_abs_mm.z(), 1, "-") + " mm");
@@ -151,6 +165,25 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
                   fixed(b.q3, 1, "-").c_str(), fixed(b.max, 1, "-").c_str(), b.outliers.size());
     out << line;
   }
+}
+
+void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r) {
+  std::ofstream out(path);
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
+  out << "frame,status,reason,mean_mm,extremity_mm,hands_feet_mm,abs_x_mm,abs_y_mm,abs_z_mm,"
+         "bias_x_mm,bias_y_mm,bias_z_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_mm\n";
+  for (const FrameResult& f : r.per_frame) {
+    out << f.frame << ',' << to_string(f.status) << ','
+        << (f.status == FrameStatus::Missing ? "" : reason_name(f.reason));
+    const bool scored = f.status == FrameStatus::Scored;
+    for (double v : {f.mean_mm, f.extremity_mm, f.hands_feet_mm, f.axis_abs_mm.x(), f.axis_abs_mm.y(),
+                     f.axis_abs_mm.z(), f.axis_bias_mm.x(), f.axis_bias_mm.y(), f.axis_bias_mm.z()})
+      out << ',' << fixed(v, 3, "");
+    out << ',' << (scored ? (f.lr_arms_correct ? "1" : "0") : "") << ','
+        << (scored ? (f.lr_legs_correct ? "1" : "0") : "") << ',' << fixed(f.stature_gt_mm, 3, "") << ','
+        << fixed(f.stature_est_mm, 3, "") << '\n';
+  }
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
 }
 
 }  // namespace hullpose::eval

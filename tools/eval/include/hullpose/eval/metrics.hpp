@@ -65,6 +65,11 @@ struct EvalResult {
   BoxStats extremities;  // head top, hands, feet (joints.hpp kExtremities)
   BoxStats hands_feet;   // the thesis' four extremities
   std::array<BoxStats, kNumJoints> per_joint;
+  // The per-frame means (FrameResult mean_mm, hands_feet_mm) over scored frames: the
+  // statistics of the Fig. 6.1 curves. frame_mean.mean equals all_joints.mean.
+  BoxStats frame_mean;
+  BoxStats frame_hands_feet;
+  int worst_frame = 0;  // the scored frame with the largest mean error (if any)
 
   // PCK: % of (frame, joint) pairs within the threshold. *_pct counts every ground-truth
   // frame, invalid and missing frames as 25 misses each; *_valid_pct only scored frames.

@@ -1,6 +1,6 @@
 #pragma once
-// The three ways hullpose-eval presents an EvalResult: one JSON object, a text table, and a
-// self-contained HTML page with the plots of thesis chapter 6.4.
+// The ways hullpose-eval presents an EvalResult: one JSON object, a text table, a per-frame
+// CSV, and a self-contained HTML page with the plots of thesis chapter 6.4.
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -19,6 +19,10 @@ struct ReportSource {
 // One JSON object on one line; NaN (nothing to average) is written as null.
 void write_json(std::ostream& out, const EvalResult& result);
 void write_table(std::ostream& out, const EvalResult& result, const ReportSource& source);
+// One row per ground-truth frame: frame,status,reason,mean_mm,extremity_mm,hands_feet_mm,
+// abs_{x,y,z}_mm,bias_{x,y,z}_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_mm
+// (empty fields where the frame was not scored).
+void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& result);
 
 // The report's series colours (#rrggbb), one per kind of mark, so that a screenshot can be
 // checked for each plot's ink.
