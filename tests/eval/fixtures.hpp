@@ -1,11 +1,12 @@
 #pragma once
 // Small ground-truth datasets built in the test itself: a skeleton made from the model's bone
 // ratios (so its stature is known exactly) that walks along y, swinging arms and legs.
+#include <unistd.h>
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "hullpose/common/dataset.hpp"
@@ -29,25 +30,60 @@ struct TempDir {
 inline JointPositions walking_pose(int f, double stature_mm) {
   const double phase = 2 * M_PI * f / 30.0, swing = 0.5 * std::sin(phase);
   const Eigen::Vector3d up(0, 0, 1), down(0, 0, -1), left(1, 0, 0), forward(0, -1, 0);
-  auto swung = [&](double angle) { return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()) * down; };
+  auto swung = [&](double angle) {
+    return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()) * down;
+  };
   JointPositions p{};
   auto at = [&](Joint j) -> Eigen::Vector3d& { return p[static_cast<size_t>(index(j))]; };
   at(Joint::Chest) = Eigen::Vector3d(40 * std::sin(phase / 3), -25.0 * f, 0.72 * stature_mm);
   for (const Bone& bone : kBones) {
     Eigen::Vector3d dir;
     switch (bone.child) {
-      case Joint::Neck: case Joint::Head: case Joint::HeadTop: dir = up; break;
-      case Joint::LSho: dir = left; break;
-      case Joint::RSho: dir = -left; break;
-      case Joint::LElb: case Joint::LHand: case Joint::LFTip: dir = swung(-swing); break;
-      case Joint::RElb: case Joint::RHand: case Joint::RFTip: dir = swung(swing); break;
-      case Joint::LHip: dir = Eigen::Vector3d(0.6, 0, -0.8); break;
-      case Joint::RHip: dir = Eigen::Vector3d(-0.6, 0, -0.8); break;
-      case Joint::LKne: case Joint::LAnk: dir = swung(swing); break;
-      case Joint::RKne: case Joint::RAnk: dir = swung(-swing); break;
-      case Joint::LFoot: case Joint::RFoot: dir = Eigen::Vector3d(0, -0.6, -0.8); break;
-      case Joint::LToe: case Joint::RToe: dir = forward; break;
-      default: dir = down;  // the spine
+      case Joint::Neck:
+      case Joint::Head:
+      case Joint::HeadTop:
+        dir = up;
+        break;
+      case Joint::LSho:
+        dir = left;
+        break;
+      case Joint::RSho:
+        dir = -left;
+        break;
+      case Joint::LElb:
+      case Joint::LHand:
+      case Joint::LFTip:
+        dir = swung(-swing);
+        break;
+      case Joint::RElb:
+      case Joint::RHand:
+      case Joint::RFTip:
+        dir = swung(swing);
+        break;
+      case Joint::LHip:
+        dir = Eigen::Vector3d(0.6, 0, -0.8);
+        break;
+      case Joint::RHip:
+        dir = Eigen::Vector3d(-0.6, 0, -0.8);
+        break;
+      case Joint::LKne:
+      case Joint::LAnk:
+        dir = swung(swing);
+        break;
+      case Joint::RKne:
+      case Joint::RAnk:
+        dir = swung(-swing);
+        break;
+      case Joint::LFoot:
+      case Joint::RFoot:
+        dir = Eigen::Vector3d(0, -0.6, -0.8);
+        break;
+      case Joint::LToe:
+      case Joint::RToe:
+        dir = forward;
+        break;
+      default:
+        dir = down;  // the spine
     }
     at(bone.child) = at(bone.parent) + dir * bone.stature_ratio * stature_mm;
   }
@@ -86,7 +122,8 @@ inline void write_dataset(const std::filesystem::path& dir, const std::vector<Po
   write_ground_truth(paths.ground_truth(), truth);
 }
 
-inline void write_estimates(const std::filesystem::path& path, const std::vector<PoseRecord>& estimates) {
+inline void write_estimates(const std::filesystem::path& path,
+                            const std::vector<PoseRecord>& estimates) {
   EstimateWriter w(path);
   for (const auto& r : estimates) w.write(r);
 }

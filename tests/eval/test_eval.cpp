@@ -99,7 +99,8 @@ TEST_CASE("box statistics follow the 1.5 IQR convention (hand-computed)") {
 }
 
 TEST_CASE("stature from joints recovers the stature of a ratio-built skeleton in any pose") {
-  for (int f : {0, 7, 22}) CHECK(stature_from_joints(walking_pose(f, kStature)) == Approx(kStature));
+  for (int f : {0, 7, 22})
+    CHECK(stature_from_joints(walking_pose(f, kStature)) == Approx(kStature));
   CHECK(stature_from_joints(walking_pose(3, 1200)) == Approx(1200));
 }
 
@@ -134,7 +135,8 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
   const auto truth = walking_truth(kFrames, kStature);
   const Eigen::Vector3d d(36, 0, -48);  // 60 mm
   SECTION("in memory") {
-    const EvalResult r = evaluate(truth, offset(as_estimates(truth), d), walking_meta(kFrames, kStature));
+    const EvalResult r =
+        evaluate(truth, offset(as_estimates(truth), d), walking_meta(kFrames, kStature));
     CHECK(r.all_joints.mean == Approx(60).margin(1e-9));
     CHECK(r.all_joints.median == Approx(60).margin(1e-9));
     CHECK(r.all_joints.std == Approx(0).margin(1e-9));
@@ -151,14 +153,15 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
     CHECK(r.axis_abs_mm.z() == Approx(48).margin(1e-9));
     CHECK(r.pck50_pct == 0);
     CHECK(r.pck100_pct == 100);
-    CHECK(r.lr_correct_pct == 100);  // a shift never swaps sides
+    CHECK(r.lr_correct_pct == 100);                       // a shift never swaps sides
     CHECK(r.stature_error_mm == Approx(0).margin(1e-9));  // nor changes bone lengths
   }
   SECTION("through the files and --json") {
     TempDir dir("offset");
     write_dataset(dir.path / "ds", truth, kStature);
     write_estimates(dir.path / "est.csv", offset(as_estimates(truth), Eigen::Vector3d(12, 0, -9)));
-    const Cli c = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json"});
+    const Cli c = run(
+        {"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json"});
     INFO(c.err);
     REQUIRE(c.status == 0);
     CHECK(c.out.find("\"mpjpe_mm\":15.000,") != std::string::npos);
@@ -166,7 +169,8 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
     CHECK(c.out.find("\"extremity_mpjpe_mm\":15.000,") != std::string::npos);
     CHECK(c.out.find("\"hands_feet_mpjpe_mm\":15.000,") != std::string::npos);
     CHECK(c.out.find("\"pck50_pct\":100.000,") != std::string::npos);
-    CHECK(c.out.find("\"axis_bias_mm\":{\"x\":12.000,\"y\":0.000,\"z\":-9.000}") != std::string::npos);
+    CHECK(c.out.find("\"axis_bias_mm\":{\"x\":12.000,\"y\":0.000,\"z\":-9.000}") !=
+          std::string::npos);
     const EvalResult r = evaluate_files(dir.path / "ds", dir.path / "est.csv");
     CHECK(r.all_joints.mean == Approx(15).margin(1e-6));  // the CSV holds 0.001 mm
     CHECK(r.all_joints.max == Approx(15).margin(1e-6));
@@ -184,7 +188,8 @@ TEST_CASE("per-frame statistics summarise the Fig. 6.1 curve") {
   CHECK(r.frame_mean.count == 4);
   CHECK(r.frame_mean.mean == Approx(22.5));
   CHECK(r.frame_mean.median == Approx(25));
-  CHECK(r.frame_mean.std == Approx(std::sqrt((22.5 * 22.5 + 2.5 * 2.5 + 7.5 * 7.5 + 17.5 * 17.5) / 4)));
+  CHECK(r.frame_mean.std ==
+        Approx(std::sqrt((22.5 * 22.5 + 2.5 * 2.5 + 7.5 * 7.5 + 17.5 * 17.5) / 4)));
   CHECK(r.frame_mean.max == Approx(40));
   CHECK(r.worst_frame == 4);
   CHECK(r.frame_hands_feet.median == Approx(25));
@@ -197,9 +202,14 @@ TEST_CASE("per-frame statistics summarise the Fig. 6.1 curve") {
 TEST_CASE("left/right swaps are detected per limb") {
   const auto truth = walking_truth(kFrames, kStature);
   auto est = as_estimates(truth);
-  for (int f = 10; f < 20; ++f) est[static_cast<size_t>(f)].joints = mirrored(truth[static_cast<size_t>(f)].joints, true, false);
-  for (int f = 30; f < 35; ++f) est[static_cast<size_t>(f)].joints = mirrored(truth[static_cast<size_t>(f)].joints, false, true);
-  for (int f = 40; f < 42; ++f) est[static_cast<size_t>(f)].joints = mirrored(truth[static_cast<size_t>(f)].joints, true, true);
+  for (int f = 10; f < 20; ++f)
+    est[static_cast<size_t>(f)].joints =
+        mirrored(truth[static_cast<size_t>(f)].joints, true, false);
+  for (int f = 30; f < 35; ++f)
+    est[static_cast<size_t>(f)].joints =
+        mirrored(truth[static_cast<size_t>(f)].joints, false, true);
+  for (int f = 40; f < 42; ++f)
+    est[static_cast<size_t>(f)].joints = mirrored(truth[static_cast<size_t>(f)].joints, true, true);
   const EvalResult r = evaluate(truth, est, walking_meta(kFrames, kStature));
   CHECK(r.lr_arms_correct_pct == Approx(100.0 * (kFrames - 12) / kFrames));
   CHECK(r.lr_legs_correct_pct == Approx(100.0 * (kFrames - 7) / kFrames));
@@ -263,13 +273,15 @@ TEST_CASE("invalid and missing frames are counted, not scored and not dropped") 
   CHECK(std::isnan(r.per_frame[10].mean_mm));
   CHECK(r.per_frame[12].status == FrameStatus::Scored);
 
-  const Cli c = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json"});
+  const Cli c =
+      run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json"});
   REQUIRE(c.status == 0);
   CHECK(c.out.find("\"missing_frames\":5,") != std::string::npos);
-  CHECK(c.out.find("\"invalid_reasons\":{\"too_few_cameras\":1,\"pose_jump\":2}") != std::string::npos);
+  CHECK(c.out.find("\"invalid_reasons\":{\"too_few_cameras\":1,\"pose_jump\":2}") !=
+        std::string::npos);
 
-  const Cli table = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(),
-                         "--report", (dir.path / "rep").string()});
+  const Cli table = run({"--gt", (dir.path / "ds").string(), "--est",
+                         (dir.path / "est.csv").string(), "--report", (dir.path / "rep").string()});
   REQUIRE(table.status == 0);
   const std::string csv = slurp(dir.path / "rep" / "per_frame.csv");
   CHECK(csv.find("\n0,missing,,,,,,,,,,,,,,\n") != std::string::npos);
@@ -298,13 +310,15 @@ TEST_CASE("an estimate with no valid frame still reports, with nulls") {
 
   // The page still renders, with empty plots, for no scored frame and for a single frame.
   TempDir dir("empty");
-  const std::string html = slurp(write_html_report(dir.path / "none", r, {"ds", "est.csv", "walk"}));
+  const std::string html =
+      slurp(write_html_report(dir.path / "none", r, {"ds", "est.csv", "walk"}));
   CHECK(html.find("<svg class='plot' id='plot-joints'") != std::string::npos);
   CHECK(html.find("nan") == std::string::npos);
   const std::vector<PoseRecord> one(truth.begin(), truth.begin() + 1);
   const EvalResult single = evaluate(one, as_estimates(one), walking_meta(1, kStature));
   CHECK(single.all_joints.mean == 0);
-  const std::string html1 = slurp(write_html_report(dir.path / "one", single, {"ds", "est.csv", "walk"}));
+  const std::string html1 =
+      slurp(write_html_report(dir.path / "one", single, {"ds", "est.csv", "walk"}));
   CHECK(html1.find("nan") == std::string::npos);
   CHECK(html1.find("inf") == std::string::npos);
 }
@@ -314,8 +328,8 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
   const auto truth = walking_truth(kFrames, kStature);
   write_dataset(dir.path / "ds", truth, kStature);
   write_estimates(dir.path / "est.csv", offset(as_estimates(truth), Eigen::Vector3d(0, 20, 0)));
-  const Cli c = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json",
-                     "--report", (dir.path / "rep").string()});
+  const Cli c = run({"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(),
+                     "--json", "--report", (dir.path / "rep").string()});
   INFO(c.err);
   REQUIRE(c.status == 0);
   CHECK(c.out.front() == '{');
@@ -328,17 +342,21 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
   const std::string html = slurp(dir.path / "rep" / "report.html");
   REQUIRE(!html.empty());
   size_t plots = 0;
-  for (size_t at = html.find("<svg class='plot'"); at != std::string::npos; at = html.find("<svg class='plot'", at + 1)) ++plots;
+  for (size_t at = html.find("<svg class='plot'"); at != std::string::npos;
+       at = html.find("<svg class='plot'", at + 1))
+    ++plots;
   CHECK(plots == 5);
   // Self-contained: nothing for the browser to fetch.
-  for (const char* fetch : {"src=", "href=", "<link", "url(", "@import", "fetch(", "XMLHttpRequest"})
+  for (const char* fetch :
+       {"src=", "href=", "<link", "url(", "@import", "fetch(", "XMLHttpRequest"})
     CHECK(html.find(fetch) == std::string::npos);
   CHECK(html.find("walk (test)") != std::string::npos);
 
   const std::string csv = slurp(dir.path / "rep" / "per_frame.csv");
   CHECK(std::count(csv.begin(), csv.end(), '\n') == kFrames + 1);
   CHECK(csv.rfind("frame,status,reason,mean_mm,", 0) == 0);
-  CHECK(csv.find("\n7,scored,ok,20.000,20.000,20.000,0.000,20.000,0.000,0.000,20.000,0.000,1,1,") != std::string::npos);
+  CHECK(csv.find("\n7,scored,ok,20.000,20.000,20.000,0.000,20.000,0.000,0.000,20.000,0.000,1,1,") !=
+        std::string::npos);
 }
 
 TEST_CASE("bad input gets a clear error naming the file") {
@@ -359,8 +377,10 @@ TEST_CASE("bad input gets a clear error naming the file") {
   CHECK(help.status == 0);
   CHECK(help.out.find("usage: hullpose-eval --gt DIR --est FILE") != std::string::npos);
   expect({"--gt", ds.string(), "--est"}, "--est needs a value");
-  expect({"--gt", ds.string(), "--est", est.string(), "--frobnicate"}, "unknown argument '--frobnicate'");
-  expect({"--gt", (dir.path / "nope").string(), "--est", est.string()}, "nope: not a dataset directory");
+  expect({"--gt", ds.string(), "--est", est.string(), "--frobnicate"},
+         "unknown argument '--frobnicate'");
+  expect({"--gt", (dir.path / "nope").string(), "--est", est.string()},
+         "nope: not a dataset directory");
   expect({"--gt", ds.string(), "--est", (dir.path / "none.csv").string()}, "none.csv: cannot open");
 
   // Frames the ground truth does not have.
@@ -371,7 +391,8 @@ TEST_CASE("bad input gets a clear error naming the file") {
   auto shifted = as_estimates(truth);
   shifted.front().frame = -3;
   write_estimates(dir.path / "neg.csv", shifted);
-  expect({"--gt", ds.string(), "--est", (dir.path / "neg.csv").string()}, "neg.csv: frame -3 is not a ground-truth frame");
+  expect({"--gt", ds.string(), "--est", (dir.path / "neg.csv").string()},
+         "neg.csv: frame -3 is not a ground-truth frame");
   write_estimates(dir.path / "empty.csv", {});
   expect({"--gt", ds.string(), "--est", (dir.path / "empty.csv").string()}, "empty.csv: no frames");
 
@@ -381,9 +402,12 @@ TEST_CASE("bad input gets a clear error naming the file") {
     std::string header, first;
     std::getline(in, header);
     std::getline(in, first);
-    std::ofstream(dir.path / "cut.csv") << header << '\n' << first << '\n' << first.substr(0, 40) << '\n';
+    std::ofstream(dir.path / "cut.csv") << header << '\n'
+                                        << first << '\n'
+                                        << first.substr(0, 40) << '\n';
   }
-  expect({"--gt", ds.string(), "--est", (dir.path / "cut.csv").string()}, "cut.csv:3: expected 78 fields");
+  expect({"--gt", ds.string(), "--est", (dir.path / "cut.csv").string()},
+         "cut.csv:3: expected 78 fields");
 
   // Meta and ground truth disagree.
   auto meta = walking_meta(21, kStature);

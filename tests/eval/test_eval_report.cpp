@@ -38,7 +38,8 @@ std::vector<PoseRecord> perturbed(const std::vector<PoseRecord>& truth) {
       r.reason = 4;  // pose jump
     }
     if (gt.frame % 37 == 5) r.joints = mirrored(gt.joints, true, false);
-    const Eigen::Vector3d drift(30 * std::sin(gt.frame / 20.0), 15, -10 * std::cos(gt.frame / 30.0));
+    const Eigen::Vector3d drift(30 * std::sin(gt.frame / 20.0), 15,
+                                -10 * std::cos(gt.frame / 30.0));
     for (size_t j = 0; j < kNumJoints; ++j) {
       const double spread = j == index(Joint::LHand) || j == index(Joint::RHand) ? 2.5 : 1.0;
       r.joints[j] += drift + spread * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
@@ -57,7 +58,8 @@ std::string slurp(const fs::path& path) {
 
 cv::Vec3b bgr(const char* hex) {
   const unsigned long v = std::strtoul(hex + 1, nullptr, 16);
-  return {static_cast<uchar>(v & 0xff), static_cast<uchar>((v >> 8) & 0xff), static_cast<uchar>((v >> 16) & 0xff)};
+  return {static_cast<uchar>(v & 0xff), static_cast<uchar>((v >> 8) & 0xff),
+          static_cast<uchar>((v >> 16) & 0xff)};
 }
 
 // Pixels within a small tolerance of `hex` (anti-aliased edges differ; line cores do not).
@@ -67,7 +69,8 @@ int ink(const cv::Mat& image, const char* hex) {
   for (int y = 0; y < image.rows; ++y)
     for (int x = 0; x < image.cols; ++x) {
       const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
-      n += std::abs(p[0] - c[0]) <= 12 && std::abs(p[1] - c[1]) <= 12 && std::abs(p[2] - c[2]) <= 12;
+      n +=
+          std::abs(p[0] - c[0]) <= 12 && std::abs(p[1] - c[1]) <= 12 && std::abs(p[2] - c[2]) <= 12;
     }
   return n;
 }
@@ -78,7 +81,8 @@ int chromium(const std::string& args, const fs::path& dir, const std::string& ta
   const std::string cmd =
       "timeout 120 /usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic "
       "--no-first-run --disable-background-networking --disable-component-update --disable-sync "
-      "--user-data-dir='" + profile.string() + "' " + args + " 2>'" + (dir / (tag + ".log")).string() + "'";
+      "--user-data-dir='" +
+      profile.string() + "' " + args + " 2>'" + (dir / (tag + ".log")).string() + "'";
   const int status = std::system(cmd.c_str());
   fs::remove_all(profile);
   return status;
@@ -121,8 +125,10 @@ TEST_CASE("the report of a perturbed estimate renders in headless Chromium") {
   const fs::path png = dir / "screenshot.png";
   const std::string url = "'file://" + html.string() + "'";
   INFO(slurp(dir / "screenshot.log"));
-  REQUIRE(chromium("--screenshot='" + png.string() + "' --window-size=1400,2400 " + url, dir, "screenshot") == 0);
-  REQUIRE(chromium("--dump-dom " + url + " > '" + (dir / "dom.html").string() + "'", dir, "dom") == 0);
+  REQUIRE(chromium("--screenshot='" + png.string() + "' --window-size=1400,2400 " + url, dir,
+                   "screenshot") == 0);
+  REQUIRE(chromium("--dump-dom " + url + " > '" + (dir / "dom.html").string() + "'", dir, "dom") ==
+          0);
 
   // The page's script found ink in all five plots once laid out.
   CHECK(slurp(dir / "dom.html").find("data-plots-drawn=\"5/5\"") != std::string::npos);
@@ -134,8 +140,10 @@ TEST_CASE("the report of a perturbed estimate renders in headless Chromium") {
                        (dir / "hover-dom.html").string() + "'",
                    dir, "hover") == 0);
   const std::string hover = slurp(dir / "hover-dom.html");
-  CHECK(hover.find("data-hover-invalid=\"frame 62 · invalid (pose_jump)all joints –") != std::string::npos);
-  CHECK(std::regex_search(hover, std::regex("data-hover-swap=\"frame 42 · scored, arms swappedx -?[0-9]+\\.[0-9] mm")));
+  CHECK(hover.find("data-hover-invalid=\"frame 62 · invalid (pose_jump)all joints –") !=
+        std::string::npos);
+  CHECK(std::regex_search(
+      hover, std::regex("data-hover-swap=\"frame 42 · scored, arms swappedx -?[0-9]+\\.[0-9] mm")));
 
   const cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
   REQUIRE(!shot.empty());

@@ -30,11 +30,16 @@ Options parse(int argc, const char* const* argv) {
       HULLPOSE_THROW_UNLESS(i + 1 < argc, arg << " needs a value");
       return argv[++i];
     };
-    if (arg == "--gt") o.gt = value();
-    else if (arg == "--est") o.est = value();
-    else if (arg == "--report") o.report = value();
-    else if (arg == "--json") o.json = true;
-    else HULLPOSE_THROW("unknown argument '" << arg << "'");
+    if (arg == "--gt")
+      o.gt = value();
+    else if (arg == "--est")
+      o.est = value();
+    else if (arg == "--report")
+      o.report = value();
+    else if (arg == "--json")
+      o.json = true;
+    else
+      HULLPOSE_THROW("unknown argument '" << arg << "'");
   }
   HULLPOSE_THROW_UNLESS(!o.gt.empty(), "--gt DIR is required");
   HULLPOSE_THROW_UNLESS(!o.est.empty(), "--est FILE is required");

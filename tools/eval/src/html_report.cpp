@@ -27,11 +27,23 @@ std::string escape(std::string_view text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -69,17 +81,22 @@ class SvgPlot {
   SvgPlot(double width, double height, Range x, Range y)
       : width_(width), height_(height), x_(x), y_(y) {}
 
-  double px(double x) const { return kLeft + (x - x_.lo) / (x_.hi - x_.lo) * (width_ - kLeft - kRight); }
-  double py(double y) const { return kTop + (y_.hi - y) / (y_.hi - y_.lo) * (height_ - kTop - kBottom); }
+  double px(double x) const {
+    return kLeft + (x - x_.lo) / (x_.hi - x_.lo) * (width_ - kLeft - kRight);
+  }
+  double py(double y) const {
+    return kTop + (y_.hi - y) / (y_.hi - y_.lo) * (height_ - kTop - kBottom);
+  }
   double bottom() const { return height_ - kBottom; }
 
   void y_axis(const std::string& label) {
     const double step = tick_step(y_, 5);
+    const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step))));
     for (double v = std::ceil(y_.lo / step) * step; v <= y_.hi + step * 1e-6; v += step) {
       const double y = py(v);
       back_ << "<line class='grid' x1='" << kLeft << "' x2='" << width_ - kRight << "' y1='" << y
             << "' y2='" << y << "'/><text class='tick' x='" << kLeft - 6 << "' y='" << y + 4
-            << "' text-anchor='end'>" << fmt(v, step < 1 ? 1 : 0) << "</text>";
+            << "' text-anchor='end'>" << fmt(v, decimals) << "</text>";
     }
     back_ << "<text class='label' transform='translate(16," << (kTop + bottom()) / 2
           << ") rotate(-90)' text-anchor='middle'>" << escape(label) << "</text>";
@@ -105,9 +122,9 @@ class SvgPlot {
 
   // A shaded column over frames [x0, x1] (data units), behind the data.
   void band(double x0, double x1, const char* fill, const std::string& title) {
-    back_ << "<rect x='" << px(x0) << "' y='" << kTop << "' width='" << std::max(1.0, px(x1) - px(x0))
-          << "' height='" << bottom() - kTop << "' fill='" << fill << "' fill-opacity='0.35'><title>"
-          << escape(title) << "</title></rect>";
+    back_ << "<rect x='" << px(x0) << "' y='" << kTop << "' width='"
+          << std::max(1.0, px(x1) - px(x0)) << "' height='" << bottom() - kTop << "' fill='" << fill
+          << "' fill-opacity='0.35'><title>" << escape(title) << "</title></rect>";
   }
 
   void hline(double y, const char* colour, const std::string& title) {
@@ -119,7 +136,8 @@ class SvgPlot {
   // A line through (xs[i], ys[i]); NaN values break it.
   void series(const std::vector<double>& xs, const std::vector<double>& ys, const char* colour,
               const std::string& title) {
-    data_ << "<path fill='none' stroke='" << colour << "' stroke-width='2' stroke-linejoin='round' d='";
+    data_ << "<path fill='none' stroke='" << colour
+          << "' stroke-width='2' stroke-linejoin='round' d='";
     bool pen_down = false;
     for (size_t i = 0; i < xs.size(); ++i) {
       if (!std::isfinite(ys[i])) {
@@ -141,19 +159,20 @@ class SvgPlot {
   // is the x mapping (data units lo..hi at viewBox x px0..px1).
   void hover(const std::string& readout) {
     std::ostringstream a;
-    a << " data-hover='" << readout << "' data-lo='" << x_.lo << "' data-hi='" << x_.hi << "' data-px0='"
-      << px(x_.lo) << "' data-px1='" << px(x_.hi) << "' data-top='" << kTop << "' data-bottom='" << bottom() << "'";
+    a << " data-hover='" << readout << "' data-lo='" << x_.lo << "' data-hi='" << x_.hi
+      << "' data-px0='" << px(x_.lo) << "' data-px1='" << px(x_.hi) << "' data-top='" << kTop
+      << "' data-bottom='" << bottom() << "'";
     attributes_ = a.str();
   }
 
   std::string svg(const std::string& id, const std::string& aria) const {
     std::ostringstream s;
-    s << "<svg class='plot' id='" << id << "' viewBox='0 0 " << width_ << ' ' << height_ << "' width='"
-      << width_ << "' height='" << height_ << "' role='img' aria-label='" << escape(aria) << "'"
-      << attributes_ << ">"
-      << back_.str() << "<g class='data'>" << data_.str() << "</g>" << front_.str()
-      << "<rect class='frame' x='" << kLeft << "' y='" << kTop << "' width='" << width_ - kLeft - kRight
-      << "' height='" << bottom() - kTop << "'/></svg>";
+    s << "<svg class='plot' id='" << id << "' viewBox='0 0 " << width_ << ' ' << height_
+      << "' width='" << width_ << "' height='" << height_ << "' role='img' aria-label='"
+      << escape(aria) << "'" << attributes_ << ">" << back_.str() << "<g class='data'>"
+      << data_.str() << "</g>" << front_.str() << "<rect class='frame' x='" << kLeft << "' y='"
+      << kTop << "' width='" << width_ - kLeft - kRight << "' height='" << bottom() - kTop
+      << "'/></svg>";
     return s.str();
   }
 
@@ -164,22 +183,23 @@ class SvgPlot {
   std::string attributes_;
 };
 
-std::string legend(std::initializer_list<std::pair<const char*, std::string>> items, bool swatch = false) {
+std::string legend(std::initializer_list<std::pair<const char*, std::string>> items,
+                   bool swatch = false) {
   std::string s = "<div class='legend'>";
   for (const auto& [colour, text] : items)
-    s += std::string("<span><i class='") + (swatch ? "sw" : "ln") + "' style='background:" + colour +
-         "'></i>" + escape(text) + "</span>";
+    s += std::string("<span><i class='") + (swatch ? "sw" : "ln") +
+         "' style='background:" + colour + "'></i>" + escape(text) + "</span>";
   return s + "</div>";
 }
 
-// Runs of consecutive frames with the same non-scored status, as [first, last] frame pairs.
+// Runs of consecutive frames for which pred holds, as [first, last] frame pairs.
 template <typename Pred>
 std::vector<std::pair<int, int>> runs(const std::vector<FrameResult>& frames, Pred pred) {
   std::vector<std::pair<int, int>> out;
   for (size_t i = 0; i < frames.size(); ++i) {
     if (!pred(frames[i])) continue;
-    const bool extends = !out.empty() && i > 0 && pred(frames[i - 1]) &&
-                         out.back().second == frames[i - 1].frame;
+    const bool extends =
+        !out.empty() && i > 0 && pred(frames[i - 1]) && out.back().second == frames[i - 1].frame;
     if (extends)
       out.back().second = frames[i].frame;
     else
@@ -194,15 +214,20 @@ Range frame_range(const EvalResult& r) {
 }
 
 std::string frame_span(std::pair<int, int> run) {
-  return run.first == run.second ? "frame " + std::to_string(run.first)
-                                 : "frames " + std::to_string(run.first) + "–" + std::to_string(run.second);
+  return run.first == run.second
+             ? "frame " + std::to_string(run.first)
+             : "frames " + std::to_string(run.first) + "–" + std::to_string(run.second);
 }
 
 void shade_failures(SvgPlot& plot, const EvalResult& r) {
-  for (const auto& run : runs(r.per_frame, [](const FrameResult& f) { return f.status == FrameStatus::Invalid; }))
-    plot.band(run.first - 0.5, run.second + 0.5, colours::kInvalid, frame_span(run) + ": estimate invalid");
-  for (const auto& run : runs(r.per_frame, [](const FrameResult& f) { return f.status == FrameStatus::Missing; }))
-    plot.band(run.first - 0.5, run.second + 0.5, colours::kMissing, frame_span(run) + ": no estimate");
+  for (const auto& run :
+       runs(r.per_frame, [](const FrameResult& f) { return f.status == FrameStatus::Invalid; }))
+    plot.band(run.first - 0.5, run.second + 0.5, colours::kInvalid,
+              frame_span(run) + ": estimate invalid");
+  for (const auto& run :
+       runs(r.per_frame, [](const FrameResult& f) { return f.status == FrameStatus::Missing; }))
+    plot.band(run.first - 0.5, run.second + 0.5, colours::kMissing,
+              frame_span(run) + ": no estimate");
 }
 
 // Plot widths that fit the page's 1300 px column: full width, and half of it beside another
@@ -242,14 +267,17 @@ std::string status_strip(const EvalResult& r) {
     if (f.status == FrameStatus::Missing) return 3;
     return f.lr_arms_correct && f.lr_legs_correct ? 0 : 1;
   };
-  const char* fills[] = {colours::kLrCorrect, colours::kLrWrong, colours::kInvalid, colours::kMissing};
-  const char* what[] = {"left/right correct", "left/right swapped", "estimate invalid", "no estimate"};
+  const char* fills[] = {colours::kLrCorrect, colours::kLrWrong, colours::kInvalid,
+                         colours::kMissing};
+  const char* what[] = {"left/right correct", "left/right swapped", "estimate invalid",
+                        "no estimate"};
   for (int c = 0; c < 4; ++c)
     for (const auto& run : runs(r.per_frame, [&](const FrameResult& f) { return cls(f) == c; }))
       plot.data() << "<rect x='" << plot.px(run.first - 0.5) << "' y='" << SvgPlot::kTop
-                  << "' width='" << std::max(1.0, plot.px(run.second + 0.5) - plot.px(run.first - 0.5))
-                  << "' height='" << height << "' fill='" << fills[c] << "'><title>" << frame_span(run)
-                  << ": " << what[c] << "</title></rect>";
+                  << "' width='"
+                  << std::max(1.0, plot.px(run.second + 0.5) - plot.px(run.first - 0.5))
+                  << "' height='" << height << "' fill='" << fills[c] << "'><title>"
+                  << frame_span(run) << ": " << what[c] << "</title></rect>";
   return plot.svg("plot-status", "frame status");
 }
 
@@ -266,7 +294,7 @@ std::string box_plot(const EvalResult& r) {
     const BoxStats& b = r.per_joint[j];
     if (b.count == 0) continue;
     const Joint joint = static_cast<Joint>(j);
-    const char* fill = mirror(joint) == joint ? colours::kBoxCentre
+    const char* fill = mirror(joint) == joint     ? colours::kBoxCentre
                        : kJointNames[j][0] == 'L' ? colours::kBoxLeft
                                                   : colours::kBoxRight;
     const double x = plot.px(static_cast<double>(j));
@@ -284,8 +312,8 @@ std::string box_plot(const EvalResult& r) {
     d << "<rect x='" << x - half << "' y='" << plot.py(b.q3) << "' width='" << 2 * half
       << "' height='" << std::max(1.5, plot.py(b.q1) - plot.py(b.q3)) << "' fill='" << fill
       << "' stroke='#334155' stroke-width='1'/>";
-    d << "<line x1='" << x - half << "' x2='" << x + half << "' y1='" << plot.py(b.median) << "' y2='"
-      << plot.py(b.median) << "' stroke='#0f172a' stroke-width='2.5'/>";
+    d << "<line x1='" << x - half << "' x2='" << x + half << "' y1='" << plot.py(b.median)
+      << "' y2='" << plot.py(b.median) << "' stroke='#0f172a' stroke-width='2.5'/>";
     d << "<path class='mean' d='M" << x - 4 << ',' << plot.py(b.mean) << " l4,-4 l4,4 l-4,4 z'/>";
     for (double o : b.outliers)
       d << "<circle class='outlier' cx='" << x << "' cy='" << plot.py(o) << "' r='2.5'/>";
@@ -357,8 +385,10 @@ std::string frames_json(const EvalResult& r) {
   array("status", [](const FrameResult& f) {
     if (f.status == FrameStatus::Scored)
       return std::string(f.lr_arms_correct && f.lr_legs_correct ? "\"scored\""
-                         : !f.lr_arms_correct && !f.lr_legs_correct ? "\"scored, arms and legs swapped\""
-                         : !f.lr_arms_correct ? "\"scored, arms swapped\"" : "\"scored, legs swapped\"");
+                         : !f.lr_arms_correct && !f.lr_legs_correct
+                             ? "\"scored, arms and legs swapped\""
+                         : !f.lr_arms_correct ? "\"scored, arms swapped\""
+                                              : "\"scored, legs swapped\"");
     if (f.status == FrameStatus::Missing) return std::string("\"missing from the estimate\"");
     return "\"invalid (" + reason_name(f.reason) + ")\"";
   });
@@ -368,7 +398,8 @@ std::string frames_json(const EvalResult& r) {
     const std::string abs_key = std::string("abs") + static_cast<char>('x' + a);
     const std::string bias_key = std::string("bias") + static_cast<char>('x' + a);
     array(abs_key.c_str(), [&](const FrameResult& f) { return num(f.axis_abs_mm[a]); });
-    array(bias_key.c_str(), [&](const FrameResult& f) { return num(f.axis_bias_mm[a]); }, a == 2);
+    array(
+        bias_key.c_str(), [&](const FrameResult& f) { return num(f.axis_bias_mm[a]); }, a == 2);
   }
   j << "}";
   return j.str();
@@ -477,8 +508,9 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
   HULLPOSE_ASSERT(!r.per_frame.empty());
   std::error_code ec;
   fs::create_directories(dir, ec);
-  HULLPOSE_THROW_UNLESS(!ec && fs::is_directory(dir), dir.string() << ": cannot create report directory"
-                                                                   << (ec ? ": " + ec.message() : ""));
+  HULLPOSE_THROW_UNLESS(!ec && fs::is_directory(dir), dir.string()
+                                                          << ": cannot create report directory"
+                                                          << (ec ? ": " + ec.message() : ""));
   const fs::path path = dir / "report.html";
   std::ofstream out(path);
   HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
@@ -488,9 +520,10 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
     reasons += (reasons.empty() ? "" : ", ") + reason_name(code) + " " + std::to_string(count);
 
   out << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>hullpose-eval: "
-      << escape(source.motion.empty() ? source.dataset : source.motion) << "</title><style>" << kStyle
-      << "</style></head><body><main>";
-  out << "<h1>Pose estimate vs ground truth" << (source.motion.empty() ? "" : " — " + escape(source.motion))
+      << escape(source.motion.empty() ? source.dataset : source.motion) << "</title><style>"
+      << kStyle << "</style></head><body><main>";
+  out << "<h1>Pose estimate vs ground truth"
+      << (source.motion.empty() ? "" : " — " + escape(source.motion))
       << "</h1><div class='src'>estimate " << escape(source.estimate) << " · ground truth "
       << escape(source.dataset) << "</div>";
 
@@ -499,18 +532,20 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
               "std " + fmt(r.all_joints.std) + " · median " + fmt(r.all_joints.median))
       << card("Hands + feet", fmt(r.hands_feet.mean), "mm",
               "std " + fmt(r.hands_feet.std) + " · with head " + fmt(r.extremities.mean))
-      << card("PCK @100 mm", fmt(r.pck100_pct), "%", "@50 mm " + fmt(r.pck50_pct) + " % · all frames")
+      << card("PCK @100 mm", fmt(r.pck100_pct), "%",
+              "@50 mm " + fmt(r.pck50_pct) + " % · all frames")
       << card("Valid frames", fmt(r.valid_pct), "%",
               std::to_string(r.scored_frames) + " of " + std::to_string(r.frames) + " · " +
-                  std::to_string(r.invalid_frames) + " invalid · " + std::to_string(r.missing_frames) +
-                  " missing")
+                  std::to_string(r.invalid_frames) + " invalid · " +
+                  std::to_string(r.missing_frames) + " missing")
       << card("Left/right correct", fmt(r.lr_correct_pct), "%",
               "arms " + fmt(r.lr_arms_correct_pct) + " · legs " + fmt(r.lr_legs_correct_pct))
       << card("Stature error", fmt(r.stature_error_mm), "mm",
               "est " + fmt(r.stature_est_mm, 0) + " · true " + fmt(r.stature_meta_mm, 0))
       << "</div>";
 
-  out << "<section><h2>Error per frame</h2><p class='note'>Mean Euclidean distance between estimated "
+  out << "<section><h2>Error per frame</h2><p class='note'>Mean Euclidean distance between "
+         "estimated "
          "and true joints in each frame (cf. thesis Fig. 6.1). Frames the estimator marked invalid "
          "or did not deliver are shaded, not drawn as zero.</p>"
       << legend({{colours::kAllJoints, "all 25 joints"},
@@ -526,17 +561,22 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
       << status_strip(r) << "</section>";
 
   out << "<section><h2>Error per joint</h2><p class='note'>Box: quartiles, bar: median, diamond: "
-         "mean, whiskers: furthest samples within 1.5 IQR of the box, circles: outliers (cf. thesis "
+         "mean, whiskers: furthest samples within 1.5 IQR of the box, circles: outliers (cf. "
+         "thesis "
          "Fig. 6.4). Scored frames only.</p>"
-      << legend({{colours::kBoxLeft, "left"}, {colours::kBoxRight, "right"}, {colours::kBoxCentre, "centre"}},
+      << legend({{colours::kBoxLeft, "left"},
+                 {colours::kBoxRight, "right"},
+                 {colours::kBoxCentre, "centre"}},
                 true)
       << box_plot(r) << "</section>";
 
-  out << "<div class='row'><section><h2>Absolute error per axis</h2><p class='note'>Mean |estimate − "
+  out << "<div class='row'><section><h2>Absolute error per axis</h2><p class='note'>Mean |estimate "
+         "− "
          "truth| over the joints, per rig axis (z up).</p>"
       << legend({{colours::kAxisX, "x"}, {colours::kAxisY, "y"}, {colours::kAxisZ, "z"}})
       << axis_plot(r, false)
-      << "</section><section><h2>Signed error per axis</h2><p class='note'>Mean (estimate − truth): "
+      << "</section><section><h2>Signed error per axis</h2><p class='note'>Mean (estimate − "
+         "truth): "
          "a systematic offset shows as a level away from zero.</p>"
       << legend({{colours::kAxisX, "x"}, {colours::kAxisY, "y"}, {colours::kAxisZ, "z"}})
       << axis_plot(r, true) << "</section></div>";
@@ -545,7 +585,8 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
       << "</section><section><h2>Definitions</h2><dl>"
       << "<dt>Scored frame</dt><dd>a ground-truth frame the estimate delivered with valid=1. All "
          "errors, left/right and stature figures are over scored frames.</dd>"
-      << "<dt>Invalid / missing</dt><dd>valid=0 rows, and ground-truth frames with no estimate row. "
+      << "<dt>Invalid / missing</dt><dd>valid=0 rows, and ground-truth frames with no estimate "
+         "row. "
          "They count against valid % and PCK (all frames), never as zero error.</dd>"
       << "<dt>PCK @d</dt><dd>% of (frame, joint) pairs within d mm of the truth; “all frames” "
          "counts invalid and missing frames as misses (scored frames only: "
@@ -563,8 +604,8 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
       << ", y " << fmt(r.axis_bias_mm.y()) << ", z " << fmt(r.axis_bias_mm.z()) << " mm.</dd>"
       << "</dl></section></div>";
 
-  out << "</main><div id='tip'></div><script type='application/json' id='frame-data'>" << frames_json(r)
-      << "</script><script>" << kScript << "</script></body></html>\n";
+  out << "</main><div id='tip'></div><script type='application/json' id='frame-data'>"
+      << frames_json(r) << "</script><script>" << kScript << "</script></body></html>\n";
   HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
   return path;
 }

@@ -3,4 +3,6 @@
 
 #include "hullpose/eval/cli.hpp"
 
-int main(int argc, char** argv) { return hullpose::eval::run_cli(argc, argv, std::cout, std::cerr); }
+int main(int argc, char** argv) {
+  return hullpose::eval::run_cli(argc, argv, std::cout, std::cerr);
+}

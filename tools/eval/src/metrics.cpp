@@ -13,13 +13,16 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-constexpr std::array<Joint, 4> kHandsFeet = {Joint::LHand, Joint::RHand, Joint::LFoot, Joint::RFoot};
+constexpr std::array<Joint, 4> kHandsFeet = {Joint::LHand, Joint::RHand, Joint::LFoot,
+                                             Joint::RFoot};
 // Left side of each limb; mirror() gives the right.
 constexpr std::array<Joint, 4> kLeftArm = {Joint::LSho, Joint::LElb, Joint::LHand, Joint::LFTip};
 constexpr std::array<Joint, 5> kLeftLeg = {Joint::LHip, Joint::LKne, Joint::LAnk, Joint::LFoot,
                                            Joint::LToe};
 
-const Eigen::Vector3d& at(const JointPositions& p, Joint j) { return p[static_cast<size_t>(index(j))]; }
+const Eigen::Vector3d& at(const JointPositions& p, Joint j) {
+  return p[static_cast<size_t>(index(j))];
+}
 
 template <size_t N>
 double mean_error(const std::array<double, kNumJoints>& err, const std::array<Joint, N>& joints) {
@@ -28,10 +31,13 @@ double mean_error(const std::array<double, kNumJoints>& err, const std::array<Jo
   return sum / static_cast<double>(N);
 }
 
-double pct(int part, int whole) { return whole > 0 ? 100.0 * part / whole : kNaN; }
+double pct(int part, int whole) {
+  return whole > 0 ? 100.0 * part / whole : kNaN;
+}
 
 template <typename Range>
-double lr_cost(const JointPositions& est, const JointPositions& truth, const Range& left, bool swapped) {
+double lr_cost(const JointPositions& est, const JointPositions& truth, const Range& left,
+               bool swapped) {
   double cost = 0;
   for (Joint l : left) {
     const Joint r = mirror(l);
@@ -78,9 +84,12 @@ BoxStats box_stats(std::vector<double> s) {
 
 const char* to_string(FrameStatus status) {
   switch (status) {
-    case FrameStatus::Scored: return "scored";
-    case FrameStatus::Invalid: return "invalid";
-    case FrameStatus::Missing: return "missing";
+    case FrameStatus::Scored:
+      return "scored";
+    case FrameStatus::Invalid:
+      return "invalid";
+    case FrameStatus::Missing:
+      return "missing";
   }
   return "?";
 }
@@ -88,13 +97,20 @@ const char* to_string(FrameStatus status) {
 std::string reason_name(int reason) {
   using S = hullpose_msg::skeleton_t;
   switch (reason) {
-    case S::REASON_OK: return "ok";
-    case S::REASON_TOO_FEW_CAMERAS: return "too_few_cameras";
-    case S::REASON_EMPTY_HULL: return "empty_hull";
-    case S::REASON_INVALID_TREE: return "invalid_tree";
-    case S::REASON_POSE_JUMP: return "pose_jump";
-    case S::REASON_FIT_FAILED: return "fit_failed";
-    default: return "reason_" + std::to_string(reason);
+    case S::REASON_OK:
+      return "ok";
+    case S::REASON_TOO_FEW_CAMERAS:
+      return "too_few_cameras";
+    case S::REASON_EMPTY_HULL:
+      return "empty_hull";
+    case S::REASON_INVALID_TREE:
+      return "invalid_tree";
+    case S::REASON_POSE_JUMP:
+      return "pose_jump";
+    case S::REASON_FIT_FAILED:
+      return "fit_failed";
+    default:
+      return "reason_" + std::to_string(reason);
   }
 }
 
@@ -122,7 +138,8 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   EvalResult r;
   r.frames = static_cast<int>(truth.size());
   r.per_frame.reserve(truth.size());
-  std::vector<double> all, extremities, hands_feet, statures_est, statures_gt, frame_means, frame_hf;
+  std::vector<double> all, extremities, hands_feet, statures_est, statures_gt, frame_means,
+      frame_hf;
   std::array<std::vector<double>, kNumJoints> per_joint;
   int within50 = 0, within100 = 0, lr_both = 0, lr_arms = 0, lr_legs = 0;
   double worst_mm = -1;

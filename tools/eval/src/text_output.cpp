@@ -15,7 +15,9 @@ std::string fixed(double v, int decimals, const char* nan_text) {
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
 }
-std::string json_num(double v) { return fixed(v, 3, "null"); }
+std::string json_num(double v) {
+  return fixed(v, 3, "null");
+}
 
 // Writes "key":value pairs separated by commas.
 class JsonObject {
@@ -136,14 +138,15 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   row("extremities (head, hands, feet)", stats(r.extremities));
   row("hands and feet (thesis Fig. 6.1)", stats(r.hands_feet));
   row("per-frame mean, all joints",
-      stats(r.frame_mean) + (r.scored_frames > 0 ? "  worst frame " + std::to_string(r.worst_frame) : ""));
+      stats(r.frame_mean) +
+          (r.scored_frames > 0 ? "  worst frame " + std::to_string(r.worst_frame) : ""));
   row("per-frame mean, hands and feet", stats(r.frame_hands_feet));
   row("mean |error| x / y / z", fixed(r.axis_abs_mm.x(), 1, "-") + " / " +
-                                   fixed(r.axis_abs_mm.y(), 1, "-") + " / " +
-                                   fixed(r.axis_abs_mm.z(), 1, "-") + " mm");
+                                    fixed(r.axis_abs_mm.y(), 1, "-") + " / " +
+                                    fixed(r.axis_abs_mm.z(), 1, "-") + " mm");
   row("mean signed error x / y / z", fixed(r.axis_bias_mm.x(), 1, "-") + " / " +
-                                        fixed(r.axis_bias_mm.y(), 1, "-") + " / " +
-                                        fixed(r.axis_bias_mm.z(), 1, "-") + " mm");
+                                         fixed(r.axis_bias_mm.y(), 1, "-") + " / " +
+                                         fixed(r.axis_bias_mm.z(), 1, "-") + " mm");
   row("PCK@50 mm / @100 mm, all frames", pc(r.pck50_pct) + " / " + pc(r.pck100_pct));
   row("PCK@50 mm / @100 mm, scored frames", pc(r.pck50_valid_pct) + " / " + pc(r.pck100_valid_pct));
   row("left/right correct (arms, legs)", pc(r.lr_correct_pct) + "   (" + pc(r.lr_arms_correct_pct) +
@@ -152,17 +155,19 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   out << "\nStature\n";
   row("true (meta.json)", mm(r.stature_meta_mm));
   row("of the ground-truth joints", mm(r.stature_gt_mm));
-  row("of the estimated joints", mm(r.stature_est_mm) + "   (std " + fixed(r.stature_est_std_mm, 1, "-") + ")");
+  row("of the estimated joints",
+      mm(r.stature_est_mm) + "   (std " + fixed(r.stature_est_std_mm, 1, "-") + ")");
   row("error vs ground-truth joints", mm(r.stature_error_mm));
   row("error vs true stature", mm(r.stature_error_meta_mm));
 
   out << "\nPer joint (mm)     mean      std   median       q1       q3      max  outliers\n";
   for (size_t j = 0; j < kNumJoints; ++j) {
     const BoxStats& b = r.per_joint[j];
-    std::snprintf(line, sizeof line, "  %-12s %8s %8s %8s %8s %8s %8s  %8zu\n", kJointNames[j].data(),
-                  fixed(b.mean, 1, "-").c_str(), fixed(b.std, 1, "-").c_str(),
-                  fixed(b.median, 1, "-").c_str(), fixed(b.q1, 1, "-").c_str(),
-                  fixed(b.q3, 1, "-").c_str(), fixed(b.max, 1, "-").c_str(), b.outliers.size());
+    std::snprintf(line, sizeof line, "  %-12s %8s %8s %8s %8s %8s %8s  %8zu\n",
+                  kJointNames[j].data(), fixed(b.mean, 1, "-").c_str(),
+                  fixed(b.std, 1, "-").c_str(), fixed(b.median, 1, "-").c_str(),
+                  fixed(b.q1, 1, "-").c_str(), fixed(b.q3, 1, "-").c_str(),
+                  fixed(b.max, 1, "-").c_str(), b.outliers.size());
     out << line;
   }
 }
@@ -171,17 +176,19 @@ void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r)
   std::ofstream out(path);
   HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
   out << "frame,status,reason,mean_mm,extremity_mm,hands_feet_mm,abs_x_mm,abs_y_mm,abs_z_mm,"
-         "bias_x_mm,bias_y_mm,bias_z_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_mm\n";
+         "bias_x_mm,bias_y_mm,bias_z_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_"
+         "mm\n";
   for (const FrameResult& f : r.per_frame) {
     out << f.frame << ',' << to_string(f.status) << ','
         << (f.status == FrameStatus::Missing ? "" : reason_name(f.reason));
     const bool scored = f.status == FrameStatus::Scored;
-    for (double v : {f.mean_mm, f.extremity_mm, f.hands_feet_mm, f.axis_abs_mm.x(), f.axis_abs_mm.y(),
-                     f.axis_abs_mm.z(), f.axis_bias_mm.x(), f.axis_bias_mm.y(), f.axis_bias_mm.z()})
+    for (double v :
+         {f.mean_mm, f.extremity_mm, f.hands_feet_mm, f.axis_abs_mm.x(), f.axis_abs_mm.y(),
+          f.axis_abs_mm.z(), f.axis_bias_mm.x(), f.axis_bias_mm.y(), f.axis_bias_mm.z()})
       out << ',' << fixed(v, 3, "");
     out << ',' << (scored ? (f.lr_arms_correct ? "1" : "0") : "") << ','
-        << (scored ? (f.lr_legs_correct ? "1" : "0") : "") << ',' << fixed(f.stature_gt_mm, 3, "") << ','
-        << fixed(f.stature_est_mm, 3, "") << '\n';
+        << (scored ? (f.lr_legs_correct ? "1" : "0") : "") << ',' << fixed(f.stature_gt_mm, 3, "")
+        << ',' << fixed(f.stature_est_mm, 3, "") << '\n';
   }
   HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
 }

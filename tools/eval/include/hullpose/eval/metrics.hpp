@@ -84,9 +84,9 @@ struct EvalResult {
   Eigen::Vector3d axis_bias_mm = Eigen::Vector3d::Zero();
 
   // Stature (see stature_from_joints), means over scored frames.
-  double stature_meta_mm = 0;        // meta.json stature_mm: the subject's true stature
-  double stature_gt_mm = 0;          // of the ground-truth joints
-  double stature_est_mm = 0;         // of the estimated joints
+  double stature_meta_mm = 0;  // meta.json stature_mm: the subject's true stature
+  double stature_gt_mm = 0;    // of the ground-truth joints
+  double stature_est_mm = 0;   // of the estimated joints
   double stature_est_std_mm = 0;
   double stature_error_mm = 0;       // stature_est_mm - stature_gt_mm
   double stature_error_meta_mm = 0;  // stature_est_mm - stature_meta_mm (thesis Table 6.8)

@@ -27,18 +27,18 @@ void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& re
 // The report's series colours (#rrggbb), one per kind of mark, so that a screenshot can be
 // checked for each plot's ink.
 namespace colours {
-inline constexpr const char* kAllJoints = "#1d4ed8";     // error per frame, all joints
-inline constexpr const char* kHandsFeet = "#f97316";     // error per frame, hands and feet
-inline constexpr const char* kBoxLeft = "#93c5fd";       // box fill, left-side joints
-inline constexpr const char* kBoxRight = "#fca5a5";      // box fill, right-side joints
-inline constexpr const char* kBoxCentre = "#d4d4d8";     // box fill, central joints
+inline constexpr const char* kAllJoints = "#1d4ed8";  // error per frame, all joints
+inline constexpr const char* kHandsFeet = "#f97316";  // error per frame, hands and feet
+inline constexpr const char* kBoxLeft = "#93c5fd";    // box fill, left-side joints
+inline constexpr const char* kBoxRight = "#fca5a5";   // box fill, right-side joints
+inline constexpr const char* kBoxCentre = "#d4d4d8";  // box fill, central joints
 inline constexpr const char* kAxisX = "#e11d48";
 inline constexpr const char* kAxisY = "#16a34a";
 inline constexpr const char* kAxisZ = "#7c3aed";
-inline constexpr const char* kLrCorrect = "#4ade80";     // frame strip: scored, left/right correct
-inline constexpr const char* kLrWrong = "#b91c1c";       // frame strip: scored, left/right swapped
-inline constexpr const char* kInvalid = "#fbbf24";       // frame strip and bands: estimate invalid
-inline constexpr const char* kMissing = "#a8a29e";       // frame strip and bands: no estimate row
+inline constexpr const char* kLrCorrect = "#4ade80";  // frame strip: scored, left/right correct
+inline constexpr const char* kLrWrong = "#b91c1c";    // frame strip: scored, left/right swapped
+inline constexpr const char* kInvalid = "#fbbf24";    // frame strip and bands: estimate invalid
+inline constexpr const char* kMissing = "#a8a29e";    // frame strip and bands: no estimate row
 }  // namespace colours
 
 // Writes DIR/report.html (creating DIR) and returns its path. No network needed to view it:
