@@ -1,6 +1,5 @@
 #include "hullpose/eval/cli.hpp"
 
-#include <optional>
 #include <string>
 #include <string_view>
 
