@@ -189,17 +189,21 @@ std::unique_ptr<Motion> make_bvh_motion(const BvhClip& clip, const MotionOptions
   body.stature_mm = stature;
 
   std::vector<JointPositions> frames(static_cast<size_t>(clip.frames));
-  Eigen::Vector2d mean_xy = Eigen::Vector2d::Zero();
+  Eigen::Vector2d lo_xy = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi_xy = -lo_xy;
   double floor = std::numeric_limits<double>::infinity();
   for (int f = 0; f < clip.frames; ++f) {
     auto& p = frames[static_cast<size_t>(f)];
     joints_at(f, p);
-    mean_xy += p[static_cast<size_t>(index(Joint::LBack))].head<2>();
+    for (const auto& joint : p) {
+      lo_xy = lo_xy.cwiseMin(joint.head<2>());
+      hi_xy = hi_xy.cwiseMax(joint.head<2>());
+    }
     floor = std::min(floor, lowest_sole(body, p));
   }
-  mean_xy /= clip.frames;
-  // The clip's mean pelvis position goes to the centre; its lowest sole touches the floor.
-  const Eigen::Vector3d shift(options.centre_mm.x() - mean_xy.x(), options.centre_mm.y() - mean_xy.y(),
+  // The middle of the space the joints sweep goes to the centre; the lowest sole touches the floor.
+  const Eigen::Vector2d mid_xy = 0.5 * (lo_xy + hi_xy);
+  const Eigen::Vector3d shift(options.centre_mm.x() - mid_xy.x(), options.centre_mm.y() - mid_xy.y(),
                               options.centre_mm.z() - floor);
   for (auto& p : frames)
     for (auto& j : p) j += shift;
