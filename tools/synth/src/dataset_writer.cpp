@@ -150,7 +150,7 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   s.stature_mm = motion->stature_mm();
   s.motion = motion->name();
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  HULLPOSE_LOG(Synth, Info) << cfg.out.string() << ": " << frames << " frames x " << n << " cameras of "
+  HULLPOSE_LOG(Synth, Debug) << cfg.out.string() << ": " << frames << " frames x " << n << " cameras of "
                             << motion->name() << " in " << s.seconds << " s";
   return s;
 }
