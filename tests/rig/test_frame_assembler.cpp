@@ -286,6 +286,12 @@ TEST_CASE("a restarted master (sequence back to 0, newer time) is followed") {
   auto old = make_silhouette(h.rig, 0, 3, kT0 + 3 * kP);  // old seq, old time: late
   h.fa.on_silhouette(old, old.utime, 2);
   CHECK(h.fa.counters().get("late") == 1);
+  // An old sequence whose time is only a little newer is a bad message, not a restart.
+  auto bumped = make_silhouette(h.rig, 0, 0, kT0 + 600 * kP + 200);
+  h.fa.on_silhouette(bumped, bumped.utime, 3);
+  CHECK(h.fa.counters().get("late") == 2);
+  CHECK(h.fa.counters().get("seq_restart") == 1);
+  CHECK(h.closed.size() == 2);
 }
 
 TEST_CASE("bad assembler configuration fails clearly") {

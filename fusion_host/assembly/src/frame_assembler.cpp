@@ -113,9 +113,11 @@ FrameAssembler::Slot* FrameAssembler::find_or_open(int64_t seq, int64_t utime) {
   for (Slot& s : slots_)
     if (s.open && s.seq == seq) return &s;
   // A new frame must be newer than every closed one. Within one master run sequence and trigger
-  // time grow together; an older sequence with a newer time means the master restarted.
+  // time grow together; an older sequence with a clearly newer time means the master restarted
+  // (a restart takes far longer than kRestartGapUs; a slightly newer time is a bad message).
   if (utime <= high_utime_) return nullptr;
   if (seq <= high_seq_) {
+    if (utime < high_utime_ + kRestartGapUs) return nullptr;
     HULLPOSE_LOG(Assembly, Info) << "trigger sequence restarted (" << high_seq_ << " -> " << seq << "): master restart";
     counters_.add("seq_restart");
     high_seq_ = -1;

@@ -113,6 +113,7 @@ class FrameAssembler {
     int64_t seq = 0, utime = 0, period_us = 0, at_us = 0;
   };
   static constexpr size_t kPlausibleSteps = 64;
+  static constexpr int64_t kRestartGapUs = 500'000;
   LastTrigger last_trigger_;
 
   const Rig& rig_;
