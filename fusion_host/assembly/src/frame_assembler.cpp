@@ -150,11 +150,12 @@ FrameAssembler::Slot* FrameAssembler::find_or_open(int64_t seq, int64_t utime) {
 }
 
 bool FrameAssembler::plausible(int64_t seq, int64_t utime, int64_t received_utime, int64_t now_us) const {
-  // One bogus frame far in the future would make every real one "late": bound the trigger time
-  // by this host's clock, and, while announcements flow, by the trigger stream itself.
-  if (std::llabs(utime - received_utime) > config_.max_clock_skew_us) return false;
+  // One bogus frame far in the future would make every real one "late": while announcements
+  // flow, the trigger time must fit the trigger stream; otherwise it is bounded by this host's
+  // clock. (A replayed log brings its TRIGGER stream along, so old trigger times pass.)
   const LastTrigger& t = last_trigger_;
-  if (t.period_us <= 0 || now_us - t.at_us > 1'000'000) return true;
+  if (t.period_us <= 0 || now_us - t.at_us > 1'000'000)
+    return std::llabs(utime - received_utime) <= config_.max_clock_skew_us;
   const int64_t steps = seq - t.seq;
   if (steps > 2 || steps < -static_cast<int64_t>(kPlausibleSteps)) return false;
   return std::llabs(utime - (t.utime + steps * t.period_us)) <= t.period_us / 2;

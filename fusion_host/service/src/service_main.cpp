@@ -1,6 +1,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
@@ -15,6 +16,7 @@ void on_signal(int) { g_stop = 1; }
 struct Options {
   std::string rig_file;
   std::string lcm_url;
+  std::string ready_file;  // written once subscribed (for scripts that start publishers next)
   double duration_s = 0;  // 0: until a signal
   ServiceConfig service;
 };
@@ -22,7 +24,7 @@ struct Options {
 Options parse(int argc, char** argv) {
   static const char* usage =
       " --rig FILE [--lcm-url URL] [--min-cameras N] [--deadline-ms MS] [--deadline-from first|trigger]"
-      " [--max-open N] [--duration-s S]";
+      " [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE]";
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -37,6 +39,8 @@ Options parse(int argc, char** argv) {
       else if (a == "--deadline-ms") o.service.assembler.deadline_us = static_cast<int64_t>(std::stod(value()) * 1000);
       else if (a == "--max-open") o.service.assembler.max_open = static_cast<size_t>(std::stoul(value()));
       else if (a == "--duration-s") o.duration_s = std::stod(value());
+      else if (a == "--ready-file") o.ready_file = value();
+      else if (a == "--max-clock-skew-ms") o.service.assembler.max_clock_skew_us = static_cast<int64_t>(std::stod(value()) * 1000);
       else if (a == "--deadline-from") {
         const std::string v = value();
         HULLPOSE_THROW_UNLESS(v == "first" || v == "trigger", "--deadline-from must be first or trigger, got '" << v << "'");
@@ -61,6 +65,7 @@ int service_main(int argc, char** argv, const char* tool,
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
     auto pipeline = make_pipeline(rig);
     FusionService service(bus, rig, *pipeline, o.service);
+    if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     const int64_t end = o.duration_s > 0 ? monotonic_us() + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;

@@ -38,8 +38,9 @@ struct AssemblerConfig {
   size_t max_open = 8;               // open frames at most (bounded memory)
   // A silhouette whose utime differs from its frame's by more than this is inconsistent.
   int64_t utime_tolerance_us = 5'000;
-  // Trigger times further than this from this host's clock are implausible (master and host
-  // clocks are assumed synchronised to well within it: NTP/PTP on a real rig).
+  // Without a TRIGGER stream to check against, trigger times further than this from this
+  // host's clock are implausible (master and host clocks are assumed synchronised to well
+  // within it: NTP/PTP on a real rig).
   int64_t max_clock_skew_us = 2'000'000;
 };
 

@@ -74,7 +74,8 @@ class FusionService {
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
-// --deadline-ms MS, --deadline-from first|trigger, --max-open N, --duration-s S): builds the
+// --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
+// --duration-s S, --ready-file FILE): builds the
 // pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
 // Returns the process exit code; errors print "<tool>: error: ..." and return 2.
 int service_main(int argc, char** argv, const char* tool,
