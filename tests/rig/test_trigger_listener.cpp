@@ -6,7 +6,9 @@
 #include <random>
 #include <vector>
 
+#include "hullpose/camera_node/trigger_client.hpp"
 #include "hullpose/camera_node/trigger_listener.hpp"
+#include "hullpose/common/time.hpp"
 
 using namespace hullpose::trigger;
 
@@ -336,4 +338,45 @@ TEST_CASE("free-running camera: the nearest frame to each edge, with its residua
   fm.poll(6'000'000, out);
   CHECK(out.size() == 15);
   CHECK(fm.counters().get("no_frame") == 1);
+}
+
+TEST_CASE("trigger client: TRIGGER over LCM + edges tag each externally triggered frame as it comes") {
+  lcm::LCM bus("memq://");
+  REQUIRE(bus.good());
+  SimEdgeSource edges;
+  NodeClock clock{2'000'000};  // this board's clock is 2 s ahead
+  ListenerConfig cfg;
+  cfg.rig_id = "rigA";
+  int64_t node_now = 0;  // the node clock, driven by the test
+  TriggerClient client(bus, edges, cfg, clock, "TRIGGER", [&] { return node_now; });
+  const int64_t real_minus_mono = hullpose::realtime_utime() - hullpose::monotonic_us();
+  const int64_t master0 = 1'700'000'000'000'000;
+  const int64_t node_minus_master = 5'000'000'000 + clock.offset_us;  // monotonic vs master epoch time
+  hullpose_msg::trigger_t t{};
+  t.rig_id = "rigA";
+  t.period_us = static_cast<int32_t>(kPeriod);
+  t.epoch = 9;
+  int tagged = 0;
+  for (int k = 0; k < 40; ++k) {
+    t.seq = 1000 + k;
+    t.utime = master0 + k * kPeriod;
+    const int64_t edge_node = t.utime + node_minus_master;  // kernel stamp + board offset
+    edges.push(edge_node);
+    node_now = edge_node + 1200;  // the announcement arrives 1.2 ms after the edge
+    bus.publish("TRIGGER", &t);
+    const uint8_t junk[] = {0, 1, 2};
+    if (k == 3) bus.publish("TRIGGER", junk, sizeof(junk));
+    // The sensor stamps exposure 300 us after the edge, on the node's realtime clock.
+    const int64_t frame_utime = edge_node + 300 - clock.offset_us + real_minus_mono;
+    auto tag = client.tag(k, frame_utime, 0);
+    if (!tag) continue;
+    ++tagged;
+    CHECK(tag->frame_id == k);
+    CHECK(tag->edge.seq == 1000 + k);
+    CHECK(tag->edge.utime == t.utime);
+    CHECK(std::llabs(tag->residual_us - 300) <= 2);
+    CHECK(std::llabs(tag->capture_utime() - (t.utime + 300)) <= 2);
+  }
+  CHECK(tagged >= 36);  // the first frames come before the offset is learnt
+  CHECK(client.counters().get("malformed_trigger") == 1);
 }
