@@ -23,12 +23,15 @@ wait_for() {  # wait_for SECONDS PATH: a process signals readiness by creating P
 }
 [[ -f $rig ]] || { echo "rig: $rig missing (the caller writes the rig file)" >&2; exit 2; }
 rm -f "$work"/*.ready "$wire"
+for f in "$work"/node*.yaml; do  # node config files may carry the templates too
+  [[ -e $f ]] && sed -i "s|{url}|$url|g; s|{wire}|$wire|g" "$f"
+done
 duration=$(( frames / rate + 20 ))
 live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
 
 "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
   --summary "$work/summary.json" --count "$frames" --duration-s "$duration" --ready-file "$work/listen.ready" "${live[@]}" \
-  2> "$work/listen.log" & listener=$!; pids+=($listener)
+  2> >(if [[ ${LIVE:-0} == 1 ]]; then tee "$work/listen.log" >&2; else cat > "$work/listen.log"; fi) & listener=$!; pids+=($listener)
 # shellcheck disable=SC2046
 $(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
