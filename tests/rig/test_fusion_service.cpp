@@ -119,3 +119,29 @@ TEST_CASE("fusion service: every sequence is published, fused or with its reason
   CHECK(counters["no_views"] == 1);
   CHECK(counters["malformed_lcm"] == 1);
 }
+
+TEST_CASE("views laid out by camera index for carving") {
+  const Rig rig = testing::make_rig(4, 40, 30);
+  std::vector<cv::Mat> masks;
+  std::vector<PixelRoi> rois;
+  int calls = 0;
+  fusion::FrameAssembler fa(rig, {}, [&](const fusion::AssembledFrame& f) {
+    ++calls;
+    fusion::views_by_camera_index(f, rig.cameras.size(), masks, rois);
+    REQUIRE(masks.size() == 4);
+    CHECK(masks[1].empty());
+    CHECK(rois[1] == PixelRoi{});
+    for (size_t i : {size_t{0}, size_t{2}, size_t{3}}) {
+      CHECK(masks[i].size() == cv::Size(40, 30));
+      CHECK(masks[i].data == f.views[i == 0 ? 0 : i - 1].mask->data);  // shared, not copied
+      CHECK(rois[i].width > 0);
+    }
+  });
+  const int64_t u = realtime_utime();
+  for (int cam : {0, 2, 3}) {
+    auto m = testing::make_silhouette(rig, cam, 1, u);
+    fa.on_silhouette(m, u, 0);
+  }
+  fa.flush();
+  CHECK(calls == 1);
+}

@@ -1,5 +1,6 @@
 // hullpose-listen: prints or records the rig's skeletons (CSV or JSON lines) with latency
-// statistics. Recording raw traffic for replay is lcm-logger's job (see docs in tools/listen).
+// statistics. Raw traffic is recorded with lcm-logger and replayed with lcm-logplayer
+// (tests/rig/lcm_log_replay_test.sh shows the round trip into the fusion host).
 #include <fcntl.h>
 #include <poll.h>
 

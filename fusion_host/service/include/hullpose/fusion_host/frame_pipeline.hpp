@@ -4,6 +4,7 @@
 // pose); tests plug in their own.
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "hullpose/common/joints.hpp"
 #include "hullpose/common/rig.hpp"
@@ -25,5 +26,12 @@ class FramePipeline {
   // frame has at least min_cameras views. Must not throw on bad data: report it in `out`.
   virtual void process(const AssembledFrame& frame, PoseEstimate& out) = 0;
 };
+
+// The frame's views laid out by camera index (Rig::cameras order), as carving takes them: the
+// mask of each camera that sent one, an empty Mat for the others; rois likewise. Reuses the
+// vectors (cv::Mat headers share the assembler's buffers: no pixel copies, no allocation once
+// the vectors have their size).
+void views_by_camera_index(const AssembledFrame& frame, size_t num_cameras, std::vector<cv::Mat>& masks,
+                           std::vector<PixelRoi>& rois);
 
 }  // namespace hullpose::fusion
