@@ -6,6 +6,7 @@ usage: lcm_log_summary.py LOG --count-triggers | LOG --check SKELETONS.jsonl"""
 import json, struct, sys
 data = open(sys.argv[1], "rb").read()
 pos, triggers, views = 0, set(), {}
+closed_with = {}  # seq -> views it had when the fusion host closes it (in order: a newer complete frame closes it)
 while pos < len(data):
     sync, _, _, clen, dlen = struct.unpack_from(">IqqII", data, pos)
     assert sync == 0xEDA1DA01, f"bad sync word at {pos}"
@@ -19,12 +20,17 @@ while pos < len(data):
             triggers.add(struct.unpack_from(">q", msg, at)[0])
         else:
             cam, seq = struct.unpack_from(">iq", msg, at)
+            if seq in closed_with:
+                continue
             views.setdefault(seq, set()).add(cam)
+            if len(views[seq]) == 3:
+                for older in [x for x in views if x <= seq and x not in closed_with]:
+                    closed_with[older] = len(views[older])
 if sys.argv[2] == "--count-triggers":
     print(len(triggers)); sys.exit(0)
 sk = [json.loads(l) for l in open(sys.argv[3])]
 seqs = [s["trigger_seq"] for s in sk]
-complete = {s for s, c in views.items() if len(c) == 3}
+complete = {s for s, n in closed_with.items() if n == 3}
 print(f"lcm_log_replay_test: log has {len(triggers)} triggers, {len(complete)} complete frames; replay gave {len(sk)} skeletons, "
       f"{sum(s['valid'] for s in sk)} valid")
 fail = []

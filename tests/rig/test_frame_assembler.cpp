@@ -264,9 +264,11 @@ TEST_CASE("while announcements flow, a silhouette must fit the trigger stream") 
   };
   send_at(99, kT0 + 99 * kP);             // fits
   send_at(100'000, kT0 + 100 * kP);       // a flipped sequence number
-  send_at(101, kT0 + 101 * kP + kP);      // seq and time disagree
+  send_at(101, kT0 + 99 * kP);            // a newer sequence at an older time
+  send_at(100, kT0 + 101 * kP);           // an announced sequence at another time
+  send_at(102, kT0 + 110 * kP);           // too far after the newest trigger
   send_at(300, kT0 + 300 * kP);           // far ahead of the newest trigger
-  CHECK(h.fa.counters().get("implausible_time") == 3);
+  CHECK(h.fa.counters().get("implausible_time") == 5);
   h.fa.flush();
   REQUIRE(h.closed.size() == 2);  // 99 and the trigger-only 100
   CHECK(h.closed[0].seq == 99);

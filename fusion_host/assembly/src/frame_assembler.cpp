@@ -100,7 +100,11 @@ void FrameAssembler::on_trigger(const hullpose_msg::trigger_t& t, int64_t now_us
     counters_.add("bad_trigger");
     return;
   }
-  last_trigger_ = {t.seq, t.utime, t.period_us, now_us};
+  if (t.period_us > 0) {
+    triggers_[static_cast<size_t>(t.seq) % kTriggerRing] = {t.seq, t.utime, t.period_us};
+    if (t.seq > newest_trigger_ || now_us - newest_trigger_at_us_ > 1'000'000) newest_trigger_ = t.seq;
+    newest_trigger_at_us_ = now_us;
+  }
   Slot* slot = find_or_open(t.seq, t.utime);
   if (!slot || slot->present > 0) return;
   if (!slot->has_reference) {
@@ -151,14 +155,31 @@ FrameAssembler::Slot* FrameAssembler::find_or_open(int64_t seq, int64_t utime) {
 
 bool FrameAssembler::plausible(int64_t seq, int64_t utime, int64_t received_utime, int64_t now_us) const {
   // One bogus frame far in the future would make every real one "late": while announcements
-  // flow, the trigger time must fit the trigger stream; otherwise it is bounded by this host's
-  // clock. (A replayed log brings its TRIGGER stream along, so old trigger times pass.)
-  const LastTrigger& t = last_trigger_;
-  if (t.period_us <= 0 || now_us - t.at_us > 1'000'000)
+  // flow, the trigger time must fit the announced ones (the master's own pulse jitter can reach
+  // tens of ms under load, so the bounds come from announced times, not the nominal grid);
+  // otherwise it is bounded by this host's clock. (A replayed log brings its TRIGGER stream
+  // along, so old trigger times pass.)
+  if (newest_trigger_ < 0 || now_us - newest_trigger_at_us_ > 1'000'000)
     return std::llabs(utime - received_utime) <= config_.max_clock_skew_us;
-  const int64_t steps = seq - t.seq;
-  if (steps > 2 || steps < -static_cast<int64_t>(kPlausibleSteps)) return false;
-  return std::llabs(utime - (t.utime + steps * t.period_us)) <= t.period_us / 2;
+  const LastTrigger& newest = triggers_[static_cast<size_t>(newest_trigger_) % kTriggerRing];
+  const LastTrigger& same = triggers_[static_cast<size_t>(seq) % kTriggerRing];
+  if (same.period_us > 0 && same.seq == seq) return std::llabs(utime - same.utime) <= same.period_us / 2;
+  if (seq > newest.seq) {
+    const int64_t steps = seq - newest.seq;
+    return steps <= 2 && utime > newest.utime && utime <= newest.utime + (steps + 1) * newest.period_us;
+  }
+  // An announcement this host missed: between its neighbours in time.
+  const LastTrigger* lo = nullptr;
+  const LastTrigger* hi = nullptr;
+  for (const LastTrigger& t : triggers_) {
+    if (t.period_us <= 0 || newest.seq - t.seq >= static_cast<int64_t>(kTriggerRing)) continue;
+    if (t.seq < seq && (!lo || t.seq > lo->seq)) lo = &t;
+    if (t.seq > seq && (!hi || t.seq < hi->seq)) hi = &t;
+  }
+  if (!hi) return false;
+  if (!lo)  // older than every announcement seen (this host just started): bounded from above
+    return utime < hi->utime && hi->utime - utime <= (hi->seq - seq + 1) * hi->period_us;
+  return utime > lo->utime && utime < hi->utime;
 }
 
 bool FrameAssembler::due(const Slot& s, int64_t now_us) const {

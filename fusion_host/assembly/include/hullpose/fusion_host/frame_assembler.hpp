@@ -12,6 +12,7 @@
 // trigger time against this host's clock and the TRIGGER stream, payload through the codec with
 // the camera's size as limit) and a bad one is counted under its reason and dropped. Masks decode straight into buffers owned by the frame slots, which are
 // reused: no allocation per frame once every slot has been used.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -109,13 +110,15 @@ class FrameAssembler {
   bool due(const Slot& slot, int64_t now_us) const;
   bool plausible(int64_t seq, int64_t utime, int64_t received_utime, int64_t now_us) const;
 
-  // The newest TRIGGER announcement: a silhouette must fit the stream it describes.
+  // Recent TRIGGER announcements (slot seq % kTriggerRing): a silhouette must fit the stream.
   struct LastTrigger {
-    int64_t seq = 0, utime = 0, period_us = 0, at_us = 0;
+    int64_t seq = -1, utime = 0, period_us = 0;
   };
-  static constexpr size_t kPlausibleSteps = 64;
+  static constexpr size_t kTriggerRing = 64;
+  std::array<LastTrigger, kTriggerRing> triggers_{};
+  int64_t newest_trigger_ = -1;
+  int64_t newest_trigger_at_us_ = 0;
   static constexpr int64_t kRestartGapUs = 500'000;
-  LastTrigger last_trigger_;
 
   const Rig& rig_;
   AssemblerConfig config_;
