@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "format.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/eval/report.hpp"
 
@@ -16,11 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string fmt(double v, int decimals = 1) {
-  if (!std::isfinite(v)) return "–";
-  if (v == 0) v = 0;  // no "-0" on the axes
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
+  return fixed(v, decimals, "–");
 }
 
 std::string escape(std::string_view text) {

@@ -3,18 +3,13 @@
 #include <cstdio>
 #include <fstream>
 
+#include "format.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/eval/report.hpp"
 
 namespace hullpose::eval {
 namespace {
 
-std::string fixed(double v, int decimals, const char* nan_text) {
-  if (!std::isfinite(v)) return nan_text;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
 std::string json_num(double v) {
   return fixed(v, 3, "null");
 }
