@@ -18,6 +18,10 @@ namespace {
 
 constexpr int kLevels = 3;      // node sizes F, 2F, 4F voxels; the top level are the cells
 constexpr int kMaxCameras = 64;
+// Per-voxel pixel tables (2 bytes per voxel and camera) up to this size; beyond, voxels of
+// undecided finest nodes are projected on the fly (same projector, same result).
+constexpr size_t kMaxPixelTableBytes = size_t{64} << 20;
+constexpr uint16_t kUnseen = 0xffff;
 
 // Bounding rectangle (inclusive) of the pixels of a node's voxel centres in one camera.
 struct Rect {
@@ -46,6 +50,10 @@ struct Carver::Precomputed {
   int finest = 2;                         // F
   std::array<Eigen::Vector3i, kLevels> nodes;  // node counts per level
   std::array<std::vector<Rect>, kLevels> rects;  // [node * cameras + camera]
+  // Optional: the pixel of every voxel centre relative to its finest node's rectangle,
+  // (dy << 8 | dx), or kUnseen; [(node * cameras + camera) * F³ + voxel in node].
+  std::vector<uint16_t> pixels;
+  std::vector<uint8_t> wide;  // [node * cameras + camera]: rectangle wider than 255 px, no table
   int size(int level) const { return finest << level; }
   size_t node_index(int level, int x, int y, int z) const {
     const Eigen::Vector3i& n = nodes[static_cast<size_t>(level)];
@@ -107,6 +115,29 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
               r.unseen = 1;
           }
         }
+  // Per-voxel pixel table, relative to the finest rectangles just computed.
+  const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
+  if (fine.size() * f3 * sizeof(uint16_t) <= kMaxPixelTableBytes) {
+    p.pixels.assign(fine.size() * f3, kUnseen);
+    p.wide.assign(fine.size(), 0);
+    for (size_t i = 0; i < fine.size(); ++i)
+      p.wide[i] = fine[i].x0 <= fine[i].x1 && (fine[i].x1 - fine[i].x0 > 254 || fine[i].y1 - fine[i].y0 > 254);
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
+    for (int nz = 0; nz < p.nodes[0].z(); ++nz)
+      for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
+        for (int y = 0; y < d.y(); ++y)
+          for (int x = 0; x < d.x(); ++x) {
+            const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
+            const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
+            const size_t local = static_cast<size_t>(((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
+            for (int c = 0; c < ncam; ++c) {
+              const size_t nc = node * static_cast<size_t>(ncam) + static_cast<size_t>(c);
+              int px, py;
+              if (!p.wide[nc] && projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
+                p.pixels[nc * f3 + local] = static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
+            }
+          }
+  }
   for (int l = 1; l < kLevels; ++l) {
     const Eigen::Vector3i& n = p.nodes[static_cast<size_t>(l)];
     const Eigen::Vector3i& m = p.nodes[static_cast<size_t>(l - 1)];
@@ -211,6 +242,7 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
   }
 
   const Precomputed& p = *pre_;
+  const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
   const int k = options_.tolerance;
   const Eigen::Vector3i dims = grid_.dims;
 
@@ -273,17 +305,25 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
             self(self, level - 1, Eigen::Vector3i(node * 2 + Eigen::Vector3i(cx, cy, cz)), base_miss, still.data(), nstill);
       return;
     }
+    const size_t node_cams = p.node_index(0, node.x(), node.y(), node.z()) * static_cast<size_t>(ncam);
     for (int z = lo.z(); z < hi.z(); ++z)
       for (int y = lo.y(); y < hi.y(); ++y) {
         uint64_t* row = hull.row(y, z);
         for (int x = lo.x(); x < hi.x(); ++x) {
-          const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
+          const size_t local = static_cast<size_t>(((z - lo.z()) * s + y - lo.y()) * s + x - lo.x());
           int misses = base_miss;
           for (int i = 0; i < nstill; ++i) {
             const int c = still[static_cast<size_t>(i)];
-            int px, py;
-            const bool hit = projectors_[static_cast<size_t>(c)].pixel(centre, px, py) &&
-                             f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(py)[px] != 0;
+            const size_t nc = node_cams + static_cast<size_t>(c);
+            bool hit;
+            if (!p.pixels.empty() && !p.wide[nc]) {
+              const uint16_t v = p.pixels[nc * f3 + local];
+              hit = v != kUnseen && f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(rects[c].y0 + (v >> 8))[rects[c].x0 + (v & 0xff)] != 0;
+            } else {
+              int px, py;
+              hit = projectors_[static_cast<size_t>(c)].pixel(grid_.centre_mm({x, y, z}), px, py) &&
+                    f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(py)[px] != 0;
+            }
             if (!hit && ++misses > k) break;
           }
           if (misses <= k) row[x >> 6] |= uint64_t{1} << (x & 63);

@@ -52,6 +52,27 @@ struct Ck3Thinner::State {
 Ck3Thinner::Ck3Thinner(const ThinOptions& options) : options_(options), state_(std::make_unique<State>()) {}
 Ck3Thinner::~Ck3Thinner() = default;
 
+namespace {
+
+// Members of a clique other than x, given as 27-bit code bits, all "free" (flags & mask == want)?
+// Read lazily: most cliques of a border voxel contain an interior voxel, which fails at once.
+bool members_free(const detail::PaddedVolume& vol, uint32_t idx, uint32_t members, uint16_t mask, uint16_t want) {
+  for (uint32_t m = members & ~nb::kCentreBit; m != 0; m &= m - 1)
+    if ((vol.flags(idx + static_cast<uint32_t>(vol.offsets27()[std::countr_zero(m)])) & mask) != want) return false;
+  return true;
+}
+uint32_t plane_members(uint32_t cells, int axis) {
+  uint32_t code = 0;
+  for (uint32_t c = cells; c != 0; c &= c - 1) code |= 1u << nb::kPlaneCells.bit[axis][std::countr_zero(c)];
+  return code;
+}
+
+// Below this many border voxels an iteration runs on one thread: a barrier costs more than the
+// work, and on a loaded machine a descheduled partner stalls every barrier.
+constexpr size_t kMinParallelBorder = 4096;
+
+}  // namespace
+
 ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint) {
   State& s = *state_;
   detail::PaddedVolume& vol = s.vol;
@@ -67,206 +88,208 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   const CurveRule rule = options_.rule;
   const bool antipodal = options_.zero_clique == ZeroCliqueTest::kAntipodal;
   const auto& rings = detail::kRingTables;
-  bool done = s.border.empty();
   int iterations = 0;
-  size_t visited = 0;
 
-#pragma omp parallel num_threads(threads)
-  while (!done) {
-    const int tid = omp_get_thread_num();
+  while (!s.border.empty()) {
     const std::vector<uint32_t>& border = s.border;
     const size_t n = border.size();
-#pragma omp single
     s.codes.resize(n);
+    stats.visited += n;
+    const bool parallel = threads > 1 && n >= kMinParallelBorder;
 
-    // 1. Classify: code, simple, 2D isthmus, constraints of the end-voxel and isthmus rules.
+#pragma omp parallel num_threads(threads) if (parallel)
+    {
+      const int tid = omp_get_thread_num();
+      // 1. Classify: code, simple, 2D isthmus, constraints of the end-voxel and isthmus rules.
 #pragma omp for schedule(static)
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t idx = border[i];
-      const uint32_t code = vol.code(idx);
-      s.codes[i] = code;
-      uint16_t f = kInB;
-      const bool simple = is_simple(code);
-      if (rule == CurveRule::kEndVoxel && std::popcount(code & ~nb::kCentreBit) == 1) f |= kK;
-      if (rule == CurveRule::kIsthmus && !simple && tbar_class(code) == 1 && nb::t26(code, 3) == 2) f |= kK;
-      if (!(f & kK)) {
-        if (simple) {
-          f |= kS0;
-          if (rule == CurveRule::kUltimate || rule == CurveRule::kEndVoxel) f |= kS;
-        } else if (tbar_class(code) >= 2) {
-          f |= kSurfV;
+      for (size_t i = 0; i < n; ++i) {
+        const uint32_t idx = border[i];
+        const uint32_t code = vol.code(idx);
+        s.codes[i] = code;
+        uint16_t f = kInB;
+        const bool simple = is_simple(code);
+        if (rule == CurveRule::kEndVoxel && std::popcount(code & ~nb::kCentreBit) == 1) f |= kK;
+        if (rule == CurveRule::kIsthmus && !simple && tbar_class(code) == 1 && nb::t26(code, 3) == 2) f |= kK;
+        if (!(f & kK)) {
+          if (simple) {
+            f |= kS0;
+            if (rule == CurveRule::kUltimate || rule == CurveRule::kEndVoxel) f |= kS;
+          } else if (tbar_class(code) >= 2) {
+            f |= kSurfV;
+          }
+        }
+        vol.set_flags(idx, f);
+      }
+
+      // 2. Curve rule.
+      if (rule == CurveRule::kCk3) {
+        // Surface 2-cliques: both voxels candidates, all four axial ring positions occupied.
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t idx = border[i];
+          const uint16_t f = vol.flags(idx);
+          if (!(f & kS0)) continue;
+          for (int d = 0; d < 6; ++d) {
+            const auto& [axis, sign] = detail::kDirections[d];
+            if ((vol.flags(idx + s.face_off[d]) & kS0) &&
+                (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingFull4)) {
+              vol.set_flags(idx, f | kSurf);
+              break;
+            }
+          }
+        }
+        // Residual voxels (no interior 6-neighbour) with no surface 26-neighbour are curve
+        // voxels: not deletable in this iteration (notes §3.3).
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t idx = border[i];
+          const uint16_t f = vol.flags(idx);
+          if (!(f & kS0)) continue;
+          const uint32_t code = s.codes[i];
+          bool residual = true;
+          for (int d = 0; d < 6 && residual; ++d) {
+            const uint32_t m = detail::kInteriorMask[d];
+            if ((code & m) == m && vol.get(idx + 2 * s.face_off[d])) residual = false;
+          }
+          const bool curve = residual && (vol.flag_code(idx, kSurf | kSurfV) & ~nb::kCentreBit) == 0;
+          if (!curve) vol.set_flags(idx, f | kS);
+        }
+      } else if (rule == CurveRule::kIsthmus) {
+        // 2-clique isthmus (T4̄ != 0, T8 = 2), recording crucial 2-cliques for the 1-clique step.
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t idx = border[i];
+          uint16_t f = vol.flags(idx);
+          if (!(f & kS0)) continue;
+          for (int d = 0; d < 6; ++d) {
+            const auto& [axis, sign] = detail::kDirections[d];
+            if (!(vol.flags(idx + s.face_off[d]) & kS0)) continue;
+            const uint8_t r = rings.bits[nb::pair_ring(s.codes[i], axis, sign)];
+            if (r & detail::kRingCrucial) f |= kZ2;
+            if (r & detail::kRingIsthmus) f |= kPK;
+          }
+          vol.set_flags(idx, f);
+        }
+        // 1-clique isthmus: candidates only, none marked at the 2-clique step, both caps non-empty.
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t idx = border[i];
+          const uint16_t f = vol.flags(idx);
+          if ((f & (kS0 | kZ2)) != kS0) continue;
+          const uint32_t code = s.codes[i];
+          bool isthmus = false;
+          for (int axis = 0; axis < 3 && !isthmus; ++axis) {
+            const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
+            for (const nb::Quadrant& q : nb::kQuadrants)
+              if (nb::quadrant_has_diagonal(p0, q) && (lo & q.cells) && (hi & q.cells) &&
+                  members_free(vol, idx, plane_members(p0 & q.cells, axis), kS0 | kZ2, kS0)) {
+                isthmus = true;
+                break;
+              }
+          }
+          if (isthmus) vol.set_flags(idx, f | kPK);
+        }
+        // Isthmuses join K for good; the other candidates go on, marks cleared.
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t idx = border[i];
+          const uint16_t f = vol.flags(idx);
+          if (f & kPK)
+            vol.set_flags(idx, kInB | kK);
+          else if (f & kS0)
+            vol.set_flags(idx, static_cast<uint16_t>((f & ~kZ2) | kS));
         }
       }
-      vol.set_flags(idx, f);
-    }
 
-    // 2. Curve rule.
-    if (rule == CurveRule::kCk3) {
-      // Surface 2-cliques: both voxels candidates, all four axial ring positions occupied.
+      // 3. Level 2: crucial 2-cliques of two candidates.
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
         const uint16_t f = vol.flags(idx);
-        if (!(f & kS0)) continue;
+        if (!(f & kS)) continue;
         for (int d = 0; d < 6; ++d) {
           const auto& [axis, sign] = detail::kDirections[d];
-          if ((vol.flags(idx + s.face_off[d]) & kS0) && (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingFull4)) {
-            vol.set_flags(idx, f | kSurf);
+          if ((vol.flags(idx + s.face_off[d]) & kS) &&
+              (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingCrucial)) {
+            vol.set_flags(idx, f | kZ2);
             break;
           }
         }
       }
-      // Residual voxels (no interior 6-neighbour) with no surface 26-neighbour are curve voxels:
-      // not deletable in this iteration (notes §3.3).
+      // 4. Level 1: crucial 1-cliques of unmarked candidates (level-2 marks only).
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
         const uint16_t f = vol.flags(idx);
-        if (!(f & kS0)) continue;
+        if ((f & (kS | kZ2)) != kS) continue;
         const uint32_t code = s.codes[i];
-        bool residual = true;
-        for (int d = 0; d < 6 && residual; ++d) {
-          const uint32_t m = detail::kInteriorMask[d];
-          if ((code & m) == m && vol.get(idx + 2 * s.face_off[d])) residual = false;
-        }
-        const bool curve = residual && (vol.flag_code(idx, kSurf | kSurfV) & ~nb::kCentreBit) == 0;
-        if (!curve) vol.set_flags(idx, f | kS);
-      }
-    } else if (rule == CurveRule::kIsthmus) {
-      // 2-clique isthmus (T4̄ != 0, T8 = 2), recording crucial 2-cliques for step 3 (notes §3.1).
-#pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        uint16_t f = vol.flags(idx);
-        if (!(f & kS0)) continue;
-        for (int d = 0; d < 6; ++d) {
-          const auto& [axis, sign] = detail::kDirections[d];
-          if (!(vol.flags(idx + s.face_off[d]) & kS0)) continue;
-          const uint8_t r = rings.bits[nb::pair_ring(s.codes[i], axis, sign)];
-          if (r & detail::kRingCrucial) f |= kZ2;
-          if (r & detail::kRingIsthmus) f |= kPK;
-        }
-        vol.set_flags(idx, f);
-      }
-      // 1-clique isthmus: candidates only, none marked at step 2, both caps non-empty.
-#pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
-        if ((f & (kS0 | kZ2)) != kS0) continue;
-        const uint32_t code = s.codes[i];
-        const uint32_t free = vol.flag_code_eq(idx, kS0 | kZ2, kS0);
-        bool isthmus = false;
-        for (int axis = 0; axis < 3 && !isthmus; ++axis) {
+        bool marked = false;
+        for (int axis = 0; axis < 3 && !marked; ++axis) {
           const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
-          const uint32_t fp = nb::plane9(free, axis, 0);
           for (const nb::Quadrant& q : nb::kQuadrants)
-            if (nb::quadrant_has_diagonal(p0, q) && (p0 & q.cells & ~fp) == 0 && (lo & q.cells) && (hi & q.cells))
-              isthmus = true;
+            if (nb::quadrant_has_diagonal(p0, q) && nb::edge_crucial(lo, hi, q) &&
+                members_free(vol, idx, plane_members(p0 & q.cells, axis), kS | kZ2, kS)) {
+              marked = true;
+              break;
+            }
         }
-        if (isthmus) vol.set_flags(idx, f | kPK);
+        if (marked) vol.set_flags(idx, f | kZ1);
       }
-      // Isthmuses join K for good; the other candidates go on, marks cleared.
+      // 5. Level 0: essential 0-cliques of unmarked candidates; what stays unmarked is deleted.
+      std::vector<uint32_t>& deleted = s.deleted[static_cast<size_t>(tid)];
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
         const uint16_t f = vol.flags(idx);
-        if (f & kPK)
-          vol.set_flags(idx, kInB | kK);
-        else if (f & kS0)
-          vol.set_flags(idx, static_cast<uint16_t>((f & ~kZ2) | kS));
-      }
-    }
-
-    // 3. Level 2: crucial 2-cliques of two candidates.
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t idx = border[i];
-      const uint16_t f = vol.flags(idx);
-      if (!(f & kS)) continue;
-      for (int d = 0; d < 6; ++d) {
-        const auto& [axis, sign] = detail::kDirections[d];
-        if ((vol.flags(idx + s.face_off[d]) & kS) && (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingCrucial)) {
-          vol.set_flags(idx, f | kZ2);
-          break;
+        if ((f & (kS | kZ2 | kZ1)) != kS) continue;
+        const uint32_t code = s.codes[i];
+        bool marked = false;
+        for (const nb::Octant& o : nb::kOctants) {
+          const uint32_t block = code & o.cells;
+          if ((antipodal ? nb::block_antipodal(block, o) : nb::block_spans3(block, o)) &&
+              members_free(vol, idx, block, kS | kZ2 | kZ1, kS)) {
+            marked = true;
+            break;
+          }
         }
+        if (!marked) deleted.push_back(idx);
       }
-    }
-    // 4. Level 1: crucial 1-cliques of unmarked candidates (marks of level 2 only).
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t idx = border[i];
-      const uint16_t f = vol.flags(idx);
-      if ((f & (kS | kZ2)) != kS) continue;
-      const uint32_t code = s.codes[i];
-      const uint32_t free = vol.flag_code_eq(idx, kS | kZ2, kS);
-      bool marked = false;
-      for (int axis = 0; axis < 3 && !marked; ++axis) {
-        const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
-        const uint32_t fp = nb::plane9(free, axis, 0);
-        for (const nb::Quadrant& q : nb::kQuadrants)
-          if (nb::quadrant_has_diagonal(p0, q) && (p0 & q.cells & ~fp) == 0 && nb::edge_crucial(lo, hi, q)) marked = true;
-      }
-      if (marked) vol.set_flags(idx, f | kZ1);
-    }
-    // 5. Level 0: essential 0-cliques of unmarked candidates; what stays unmarked is deleted.
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t idx = border[i];
-      const uint16_t f = vol.flags(idx);
-      if ((f & (kS | kZ2 | kZ1)) != kS) continue;
-      const uint32_t code = s.codes[i];
-      const uint32_t free = vol.flag_code_eq(idx, kS | kZ2 | kZ1, kS);
-      bool marked = false;
-      for (const nb::Octant& o : nb::kOctants) {
-        const uint32_t block = code & o.cells;
-        if (block & ~free) continue;
-        if (antipodal ? nb::block_antipodal(block, o) : nb::block_spans3(block, o)) {
-          marked = true;
-          break;
-        }
-      }
-      if (!marked) s.deleted[static_cast<size_t>(tid)].push_back(idx);
     }
 
     // 6. Delete, grow the border list with newly exposed voxels, move K out of it.
-#pragma omp single
-    {
-      size_t removed = 0;
-      for (auto& list : s.deleted) {
-        for (uint32_t idx : list) {
-          vol.clear(idx);
-          vol.set_flags(idx, 0);
-        }
-        removed += list.size();
+    size_t removed = 0;
+    for (auto& list : s.deleted) {
+      for (uint32_t idx : list) {
+        vol.clear(idx);
+        vol.set_flags(idx, 0);
       }
-      s.next_border.clear();
-      for (uint32_t idx : s.border) {
-        const uint16_t f = vol.flags(idx);
-        if (f == 0) continue;  // deleted
-        if (f & kK) {
-          vol.set_flags(idx, kK);
-          s.k_list.push_back(idx);
-        } else {
-          s.next_border.push_back(idx);
-        }
-      }
-      for (auto& list : s.deleted) {
-        for (uint32_t idx : list)
-          for (int d = 0; d < 6; ++d) {
-            const uint32_t q = idx + static_cast<uint32_t>(s.face_off[d]);
-            if (vol.get(q) && vol.flags(q) == 0) {
-              vol.set_flags(q, kInB);
-              s.next_border.push_back(q);
-            }
-          }
-        list.clear();
-      }
-      s.border.swap(s.next_border);
-      visited += n;
-      ++iterations;
-      done = removed == 0 || s.border.empty() || (options_.max_iterations > 0 && iterations >= options_.max_iterations);
+      removed += list.size();
     }
+    s.next_border.clear();
+    for (uint32_t idx : s.border) {
+      const uint16_t f = vol.flags(idx);
+      if (f == 0) continue;  // deleted
+      if (f & kK) {
+        vol.set_flags(idx, kK);
+        s.k_list.push_back(idx);
+      } else {
+        s.next_border.push_back(idx);
+      }
+    }
+    for (auto& list : s.deleted) {
+      for (uint32_t idx : list)
+        for (int d = 0; d < 6; ++d) {
+          const uint32_t q = idx + static_cast<uint32_t>(s.face_off[d]);
+          if (vol.get(q) && vol.flags(q) == 0) {
+            vol.set_flags(q, kInB);
+            s.next_border.push_back(q);
+          }
+        }
+      list.clear();
+    }
+    s.border.swap(s.next_border);
+    ++iterations;
+    if (removed == 0 || (options_.max_iterations > 0 && iterations >= options_.max_iterations)) break;
   }
 
   vol.store(volume, constraint, s.k_list);
@@ -275,7 +298,6 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   stats.iterations = iterations;
   stats.final_voxels = volume.count();
   stats.constrained = s.k_list.size();
-  stats.visited = visited;
   return stats;
 }
 

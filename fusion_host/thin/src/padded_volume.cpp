@@ -1,5 +1,7 @@
 #include "padded_volume.hpp"
 
+#include <bit>
+
 #include "hullpose/common/check.hpp"
 
 namespace hullpose::thin::detail {
@@ -12,12 +14,14 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
   HULLPOSE_THROW_UNLESS(!constraint || constraint->dims() == dims,
                         "thinning: constraint dims " << constraint->dims().transpose() << " differ from volume dims "
                                                      << dims.transpose());
-  const uint64_t padded = static_cast<uint64_t>(dims.x() + 2 * kPad) * (dims.y() + 2 * kPad) * (dims.z() + 2 * kPad);
-  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31), "thinning: volume " << dims.transpose() << " too large");
   dims_ = dims;
   px_ = dims.x() + 2 * kPad;
   py_ = dims.y() + 2 * kPad;
   pz_ = dims.z() + 2 * kPad;
+  shift_ = std::bit_width(static_cast<unsigned>(px_ - 1));
+  mask_ = (1u << shift_) - 1;
+  const uint64_t padded = (static_cast<uint64_t>(py_) * pz_) << shift_;
+  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31), "thinning: volume " << dims.transpose() << " too large");
   words_ = static_cast<size_t>((px_ + 63) / 64 + 1);
   rows_.assign(static_cast<size_t>(py_) * pz_ * words_, 0);
   if (flags_.size() < padded) flags_.resize(padded, 0);  // invariant: all zero between frames
@@ -38,7 +42,7 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
   k_list.clear();
   if (constraint)
     constraint->for_each([&](int x, int y, int z) {
-      const uint32_t idx = static_cast<uint32_t>(x + kPad + px_ * (y + kPad + py_ * (z + kPad)));
+      const uint32_t idx = index(x + kPad, y + kPad, z + kPad);
       if (!get(idx)) return;
       set_flags(idx, k_flag);
       k_list.push_back(idx);
@@ -55,8 +59,7 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
         const uint64_t inner = left & right & r[w - words_] & r[w + words_] &
                                r[w - words_ * static_cast<size_t>(py_)] & r[w + words_ * static_cast<size_t>(py_)];
         for (uint64_t bits = r[w] & ~inner; bits != 0; bits &= bits - 1) {
-          const uint32_t idx = static_cast<uint32_t>((static_cast<size_t>(z) * py_ + y) * px_ + w * 64 +
-                                                     static_cast<size_t>(std::countr_zero(bits)));
+          const uint32_t idx = index(static_cast<int>(w * 64) + std::countr_zero(bits), y, z);
           if (flags(idx) & k_flag) continue;
           set_flags(idx, inb_flag);
           border.push_back(idx);
@@ -80,9 +83,9 @@ void PaddedVolume::store(fusion::BitGrid& grid, fusion::BitGrid* constraint, con
   if (constraint) {
     constraint->reset(dims_);
     for (uint32_t idx : k_list) {
-      const int x = static_cast<int>(idx % static_cast<uint32_t>(px_));
-      const int y = static_cast<int>(idx / static_cast<uint32_t>(px_) % static_cast<uint32_t>(py_));
-      const int z = static_cast<int>(idx / static_cast<uint32_t>(px_) / static_cast<uint32_t>(py_));
+      const int x = static_cast<int>(idx & mask_);
+      const int y = static_cast<int>((idx >> shift_) % static_cast<uint32_t>(py_));
+      const int z = static_cast<int>((idx >> shift_) / static_cast<uint32_t>(py_));
       constraint->set(x - kPad, y - kPad, z - kPad);
     }
   }

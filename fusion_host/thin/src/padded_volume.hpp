@@ -27,25 +27,27 @@ class PaddedVolume {
 
   int px() const { return px_; }
   int py() const { return py_; }
+  // Linear voxel index: (row << shift) | x with row = z * py + y, the row stride a power of two
+  // so that no per-voxel access divides.
+  uint32_t index(int x, int y, int z) const {
+    return (static_cast<uint32_t>(z * py_ + y) << shift_) | static_cast<uint32_t>(x);
+  }
   // Linear index offset of a neighbour.
-  int offset(int dx, int dy, int dz) const { return dx + px_ * (dy + py_ * dz); }
+  int offset(int dx, int dy, int dz) const { return dx + (dy + py_ * dz) * (1 << shift_); }
   const int* offsets27() const { return off27_; }
 
   bool get(uint32_t idx) const {
-    const uint32_t row = idx / static_cast<uint32_t>(px_);
-    const uint32_t x = idx - row * static_cast<uint32_t>(px_);
+    const uint32_t row = idx >> shift_, x = idx & mask_;
     return (rows_[row * words_ + (x >> 6)] >> (x & 63) & 1u) != 0;
   }
   void clear(uint32_t idx) {
-    const uint32_t row = idx / static_cast<uint32_t>(px_);
-    const uint32_t x = idx - row * static_cast<uint32_t>(px_);
+    const uint32_t row = idx >> shift_, x = idx & mask_;
     rows_[row * words_ + (x >> 6)] &= ~(uint64_t{1} << (x & 63));
   }
 
   // The 27-bit neighbourhood code of voxel idx (notes §0), from 9 unaligned row reads.
   uint32_t code(uint32_t idx) const {
-    const uint32_t row = idx / static_cast<uint32_t>(px_);
-    const uint32_t x = idx - row * static_cast<uint32_t>(px_) - 1;
+    const uint32_t row = idx >> shift_, x = (idx & mask_) - 1;
     const auto* base = reinterpret_cast<const unsigned char*>(rows_.data());
     uint32_t c = 0;
     for (int dz = -1; dz <= 1; ++dz)
@@ -85,6 +87,8 @@ class PaddedVolume {
 
  private:
   int px_ = 0, py_ = 0, pz_ = 0;
+  int shift_ = 0;
+  uint32_t mask_ = 0;
   size_t words_ = 0;  // per padded row, including one spare word for the unaligned reads
   int off27_[27] = {};
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();

@@ -16,9 +16,11 @@
 // bounding rectangle of the pixels of their voxel centres in every camera. Per frame it builds
 // an integral image of each silhouette's foreground box, then classifies nodes per camera as all
 // inside (the rectangle is all foreground), all outside (no foreground) or mixed, counts misses
-// and only descends into nodes that are still undecided; voxels of undecided finest nodes are
-// projected with the same VoxelProjector as the reference. The result equals carve_brute_force()
-// voxel for voxel (tests/fusion/test_carve).
+// and only descends into nodes that are still undecided. Voxels of undecided finest nodes are
+// tested at their pixel, read from a per-voxel table computed at construction with the same
+// VoxelProjector as the reference (2 bytes per voxel and camera, up to 64 MiB: 128³ with 8
+// cameras), or projected on the fly beyond that. Either way the result equals
+// carve_brute_force() voxel for voxel by construction (checked in tests/fusion/test_carve).
 //
 // Lifecycle: construct once per (rig, resolution, tolerance); carve() per frame reuses all
 // buffers (no allocation at steady state).

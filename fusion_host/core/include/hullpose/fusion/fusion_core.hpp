@@ -31,7 +31,10 @@ enum class Skeletoniser { kCk3, kD6i1d };
 struct FusionOptions {
   int resolution = 64;                          // voxels along the capture volume's longest axis
   int tolerance = 0;                            // carving: a voxel may miss in k present cameras
-  int threads = 2;                              // carving and CK3 threads
+  // Carving and CK3 threads. Each CK3 iteration has 5 barriers: more than one thread pays only on
+  // cores this process has to itself (measured: 2 threads on the shared, loaded 2-core build
+  // machine are several times slower than 1).
+  int threads = 1;
   Skeletoniser skeletoniser = Skeletoniser::kCk3;
   thin::CurveRule curve_rule = thin::CurveRule::kCk3;  // CK3's curve constraint
   CleanupOptions cleanup;

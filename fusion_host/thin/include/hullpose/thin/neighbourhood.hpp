@@ -128,10 +128,26 @@ HULLPOSE_HD constexpr uint32_t plane9(uint32_t code, int axis, int value) {
     const int o = 3 * (value + 1);
     return (code >> o & 7u) | (code >> (o + 9) & 7u) << 3 | (code >> (o + 18) & 7u) << 6;
   }
-  uint32_t g = 0;
-  for (int i = 0; i < 9; ++i) g |= (code >> (3 * i + value + 1) & 1u) << i;
-  return g;
+  // x: bits 3i + value + 1; squeeze each 9-bit chunk's bits 0, 3, 6 into bits 0, 1, 2.
+  const uint32_t s = code >> (value + 1) & 0x1249249u;
+  const uint32_t t = s | s >> 2 | s >> 4;
+  return (t & 7u) | (t >> 6 & 0x38u) | (t >> 12 & 0x1c0u);
 }
+// Inverse of plane9 at value 0: the code bit of each of the 9 cells of the plane through x.
+struct PlaneCells {
+  int bit[3][9] = {};
+  constexpr PlaneCells() {
+    for (int b = 0; b < 27; ++b)
+      for (int axis = 0; axis < 3; ++axis) {
+        const int c = axis == 0 ? b % 3 : axis == 1 ? b / 3 % 3 : b / 9;
+        if (c != 1) continue;
+        const uint32_t g = plane9(1u << b, axis, 0);
+        for (int i = 0; i < 9; ++i)
+          if (g == (1u << i)) bit[axis][i] = b;
+      }
+  }
+};
+inline constexpr PlaneCells kPlaneCells;
 
 // ---- 2-cliques (notes §2.2) --------------------------------------------------------------
 // Ring of a 9-bit plane grid: the 8 cells around the centre in cyclic order; even = 4-neighbours.
