@@ -102,3 +102,29 @@ TEST_CASE("2-clique ring test: crucial iff the ring is empty, disconnected or co
     CHECK(nb::ring_crucial(r) == (empty || !connected || full4));
   }
 }
+
+TEST_CASE("plane9 extracts the 3x3 plane of a code, and kPlaneCells inverts it") {
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<uint32_t> bits(0, (1u << 27) - 1);
+  for (int i = 0; i < 2000; ++i) {
+    const uint32_t code = bits(rng);
+    for (int axis = 0; axis < 3; ++axis)
+      for (int value = -1; value <= 1; ++value) {
+        uint32_t expect = 0;
+        int cell = 0;
+        // Cells in order of the two other axes, lower axis fastest.
+        const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+        for (int cv = -1; cv <= 1; ++cv)
+          for (int cu = -1; cu <= 1; ++cu, ++cell) {
+            int d[3];
+            d[axis] = value;
+            d[u] = cu;
+            d[v] = cv;
+            expect |= (code >> nb::bit(d[0], d[1], d[2]) & 1u) << cell;
+          }
+        REQUIRE(nb::plane9(code, axis, value) == expect);
+      }
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    for (int cell = 0; cell < 9; ++cell) CHECK(nb::plane9(1u << nb::kPlaneCells.bit[axis][cell], axis, 0) == 1u << cell);
+}

@@ -151,7 +151,8 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
             const uint32_t m = detail::kInteriorMask[d];
             if ((code & m) == m && vol.get(idx + 2 * s.face_off[d])) residual = false;
           }
-          const bool curve = residual && (vol.flag_code(idx, kSurf | kSurfV) & ~nb::kCentreBit) == 0;
+          // Only object neighbours can carry surface marks.
+          const bool curve = residual && members_free(vol, idx, code, kSurf | kSurfV, 0);
           if (!curve) vol.set_flags(idx, f | kS);
         }
       } else if (rule == CurveRule::kIsthmus) {

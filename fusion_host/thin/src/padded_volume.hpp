@@ -25,8 +25,6 @@ class PaddedVolume {
   // Writes the object back into `grid` (same dims as loaded) and K into `constraint`.
   void store(fusion::BitGrid& grid, fusion::BitGrid* constraint, const std::vector<uint32_t>& k_list) const;
 
-  int px() const { return px_; }
-  int py() const { return py_; }
   // Linear voxel index: (row << shift) | x with row = z * py + y, the row stride a power of two
   // so that no per-voxel access divides.
   uint32_t index(int x, int y, int z) const {
@@ -70,19 +68,6 @@ class PaddedVolume {
   // every voxel whose flags were set).
   void zero_flags(const std::vector<uint32_t>& list) {
     for (uint32_t idx : list) flags_[idx] = 0;
-  }
-  // 27-bit code of "some flag in mask is set" over the neighbourhood (centre bit = own flags).
-  uint32_t flag_code(uint32_t idx, uint16_t mask) const {
-    uint32_t c = 0;
-    for (int b = 0; b < 27; ++b) c |= static_cast<uint32_t>((flags(idx + static_cast<uint32_t>(off27_[b])) & mask) != 0) << b;
-    return c;
-  }
-  // 27-bit code of "flags & mask == want" over the neighbourhood.
-  uint32_t flag_code_eq(uint32_t idx, uint16_t mask, uint16_t want) const {
-    uint32_t c = 0;
-    for (int b = 0; b < 27; ++b)
-      c |= static_cast<uint32_t>((flags(idx + static_cast<uint32_t>(off27_[b])) & mask) == want) << b;
-    return c;
   }
 
  private:
