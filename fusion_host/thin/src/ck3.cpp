@@ -258,7 +258,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
     }
 
     // 6. Delete, grow the border list with newly exposed voxels, move K out of it.
-    size_t removed = 0;
+    size_t removed = 0, constrained = 0;
     for (auto& list : s.deleted) {
       for (uint32_t idx : list) {
         vol.clear(idx);
@@ -273,6 +273,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
       if (f & kK) {
         vol.set_flags(idx, kK);
         s.k_list.push_back(idx);
+        ++constrained;
       } else {
         s.next_border.push_back(idx);
       }
@@ -290,7 +291,10 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
     }
     s.border.swap(s.next_border);
     ++iterations;
-    if (removed == 0 || (options_.max_iterations > 0 && iterations >= options_.max_iterations)) break;
+    // Stable when nothing was deleted and K did not grow (a voxel joining K can free a neighbour
+    // from a crucial clique it shared with it).
+    if ((removed == 0 && constrained == 0) || (options_.max_iterations > 0 && iterations >= options_.max_iterations))
+      break;
   }
 
   vol.store(volume, constraint, s.k_list);
