@@ -17,7 +17,8 @@ constexpr const char* kUsage = R"(usage: hullpose-synth --motion <NAME|FILE.bvh>
   --out DIR         dataset directory (created)
   --frames N        frames to render (default: the whole clip; 300 for built-in motions)
   --fps F           rig frame rate (default 30)
-  --rig R           thesis8 (7 ring + 1 ceiling camera, 800x600; default) or a rig file
+  --rig R           thesis8 (7 ring + 1 ceiling camera, 800x600; default), a rig file, or a ring:
+                    ring:cameras=N,radius=MM,height=MM,tilt=DEG,ceiling=0|1,vfov=DEG,k1=K,width=PX,rows=PX
   --rgb             also render colour frames and background-only frames
   --backgrounds K   background-only frames per camera with --rgb (default 10)
   --noise SPEC      faults: salt=P,pepper=P,blobs=N,holes=N,blob_px=R,calib_px=S,calib_deg=S,
