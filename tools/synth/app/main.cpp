@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
   } catch (const hullpose::Error& e) {
     std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
     return 2;
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {  // cv::Exception, std::filesystem::filesystem_error, ...
     std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
     return 2;
   }
