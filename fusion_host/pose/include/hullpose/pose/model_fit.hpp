@@ -22,10 +22,10 @@ namespace hullpose::pose {
 using JointPositions = std::array<Eigen::Vector3d, kNumJoints>;
 
 struct ShakeParams {
-  int max_iterations = 300;       // outer iterations (pseudo-constraint step + bone sweeps)
+  int max_iterations = 60;        // outer iterations (pseudo-constraint step + bone sweeps)
   int sweeps_per_iteration = 3;
-  double target_gain = 0.5;       // fraction of the distance to its line/point a joint moves per step
-  double tolerance_mm = 0.02;     // stop when no pseudo-constraint moves a joint further than this
+  double target_gain = 1.0;       // fraction of the distance to its targets a joint moves per step
+  double tolerance_mm = 0.05;     // stop when an iteration moves no joint further than this
   double bone_tolerance_mm = 0.01;  // |length - l| every bone must meet when solve() returns
   int max_bone_sweeps = 400;
 };
