@@ -89,7 +89,9 @@ ReplaySummary run_replay(const ReplayOptions& options) {
             << tree_ms << ',' << fit_ms << ',' << total.back() << ',' << hull.skeleton_voxels.size() << ','
             << pose.stature_mm << '\n';
     summary.valid += pose.valid;
-    if (!pose.valid) HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
+    if (!pose.valid) {
+      HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
+    }
   }
   writer.flush();
   summary.frames = frames;
