@@ -187,7 +187,10 @@ Eigen::Vector3d ModelFitter::at_arc(const LabelledTree& tree, const std::vector<
   };
   if (n == 1 || span <= 0) return tree.position[path.front()];
   if (arc_mm < 0) {
-    const Eigen::Vector3d d = (tree.position[path.front()] - interpolate(span)).normalized();
+    // Beyond the tip: along the chord of a stretch at least twice the extension, so a long
+    // extension (the head) follows the limb rather than the last voxels' noise.
+    const double back = std::min(total, std::max(span, -2 * arc_mm));
+    const Eigen::Vector3d d = (tree.position[path.front()] - interpolate(back)).normalized();
     return tree.position[path.front()] + d * -arc_mm;
   }
   if (arc_mm > total) {

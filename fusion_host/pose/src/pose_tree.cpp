@@ -458,47 +458,63 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
   tree_.forward = forward.normalized();
   tree_.left = up.cross(tree_.forward);
 
-  // Algorithm 6: which of two limbs is left, from the lines near the torso.
-  const double eps = params_.lr_min_margin_deg * kDeg;
-  auto decide = [&](int a, int b, double set_mm, int hint_left, int hint_right) {
-    const Eigen::Vector3d v1 = path_direction(paths[a], 0, set_mm, true);
-    const Eigen::Vector3d v2 = path_direction(paths[b], 0, set_mm, true);
+  // Which of two limbs is left; too small a margin defers to the previous frame's positions.
+  auto settle = [&](int a, int b, bool first_left, bool weak, Extremity hint_left, Extremity hint_right) {
+    if (weak && hint.valid) {
+      const Eigen::Vector3d& p1 = tree_.position[paths[a].front()];
+      const Eigen::Vector3d& p2 = tree_.position[paths[b].front()];
+      const Eigen::Vector3d& l = hint.extremity_mm[static_cast<int>(hint_left)];
+      const Eigen::Vector3d& r = hint.extremity_mm[static_cast<int>(hint_right)];
+      first_left = (p1 - l).norm() + (p2 - r).norm() <= (p2 - l).norm() + (p1 - r).norm();
+    }
+    if (!first_left) {
+      std::swap(paths[a], paths[b]);
+      std::swap(tree_.limb_score[a], tree_.limb_score[b]);
+    }
+  };
+
+  // Arms, algorithm 6: lines through the nodes nearest the torso, pointing away from it.
+  {
+    const double set_mm = 1.5 * bone_ratio(Joint::LSho) * stature;
+    const Eigen::Vector3d v1 = path_direction(paths[kHand1], 0, set_mm, true);
+    const Eigen::Vector3d v2 = path_direction(paths[kHand2], 0, set_mm, true);
     const Eigen::Vector3d& f = tree_.forward;
     const Eigen::Vector3d& l = tree_.left;
     bool first_left;
     double margin;
     const double d1 = l.dot(v1), d2 = l.dot(v2);
-    if (d1 > 0 && d2 > 0) {
+    if ((d1 > 0) == (d2 > 0)) {  // both to one side: the one further back (front) is left
       const double a1 = angle_between(f, v1), a2 = angle_between(f, v2);
-      first_left = a1 > a2;
-      margin = std::abs(a1 - a2);
-    } else if (d1 < 0 && d2 < 0) {
-      const double a1 = angle_between(f, v1), a2 = angle_between(f, v2);
-      first_left = a1 < a2;
+      first_left = d1 > 0 ? a1 > a2 : a1 < a2;
       margin = std::abs(a1 - a2);
     } else {
       const double a1 = angle_between(l, v1), a2 = angle_between(l, v2);
       first_left = a1 < a2;
       margin = std::abs(a1 - a2);
     }
-    if (margin < eps && hint.valid) {
-      const Eigen::Vector3d& p1 = tree_.position[paths[a].front()];
-      const Eigen::Vector3d& p2 = tree_.position[paths[b].front()];
-      const double keep = (p1 - hint.extremity_mm[hint_left]).norm() + (p2 - hint.extremity_mm[hint_right]).norm();
-      const double swap = (p2 - hint.extremity_mm[hint_left]).norm() + (p1 - hint.extremity_mm[hint_right]).norm();
-      first_left = keep <= swap;
-    }
-    if (!first_left) {
-      std::swap(paths[a], paths[b]);
-      std::swap(tree_.limb_score[a], tree_.limb_score[b]);
-    }
-    return margin / kDeg;
-  };
-  const double arm_margin = decide(kHand1, kHand2, 1.5 * bone_ratio(Joint::LSho) * stature,
-                                   static_cast<int>(Extremity::LHand), static_cast<int>(Extremity::RHand));
-  const double leg_margin = decide(kFoot1, kFoot2, bone_ratio(Joint::LHip) * stature + 0.5 * thigh,
-                                   static_cast<int>(Extremity::LFoot), static_cast<int>(Extremity::RFoot));
-  tree_.lr_margin_deg = std::min(arm_margin, leg_margin);
+    tree_.lr_margin_deg = margin / kDeg;
+    settle(kHand1, kHand2, first_left, margin < params_.lr_min_margin_deg * kDeg, Extremity::LHand, Extremity::RHand);
+  }
+  // Legs: where the two thighs sit along the left axis, relative to the pelvis. Algorithm 6's
+  // hip-line angles are unreliable here: the leg branches leave the crotch nearly parallel
+  // whenever the legs are close, and the angle comparison then follows noise.
+  {
+    const double set_mm = bone_ratio(Joint::LHip) * stature + 0.5 * thigh;
+    auto lateral = [&](const std::vector<int32_t>& path) {
+      MomentAccumulator m;
+      double arc = 0;
+      for (size_t k = path.size(); k-- > 0;) {
+        if (k + 1 < path.size()) arc += (tree_.position[path[k]] - tree_.position[path[k + 1]]).norm();
+        if (arc > set_mm) break;
+        m.add(tree_.position[path[k]]);
+      }
+      return tree_.left.dot(m.centroid() - tree_.position[tree_.pelvis]);
+    };
+    const double d1 = lateral(paths[kFoot1]), d2 = lateral(paths[kFoot2]);
+    tree_.leg_margin_mm = std::abs(d1 - d2);
+    settle(kFoot1, kFoot2, d1 > d2, tree_.leg_margin_mm < params_.lr_min_margin_mm, Extremity::LFoot,
+           Extremity::RFoot);
+  }
   for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].front();
   return true;
 }

@@ -47,7 +47,8 @@ struct TreeParams {
   double min_factor = 0.3;
   // Left/right decisions with less angular margin than this defer to temporal correspondence
   // when a previous valid frame exists.
-  double lr_min_margin_deg = 8;
+  double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
+  double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
   // Algorithm 5: a joint normal counts only if the joint is bent by more than this.
   double bend_min_deg = 12;
 };
@@ -83,7 +84,8 @@ struct LabelledTree {
   double longest_path_mm = 0;
   double quality = 0;                                 // geometric mean of rank factors, 0..1
   std::array<double, kNumExtremities> limb_score{};   // rank factor per extremity, 0..1
-  double lr_margin_deg = 0;  // the smaller of the arm and leg left/right margins
+  double lr_margin_deg = 0;  // arms: algorithm 6's angular margin
+  double leg_margin_mm = 0;  // legs: lateral separation of the thighs
   bool used_temporal_labels = false;
   bool forward_from_previous = false;
 };
