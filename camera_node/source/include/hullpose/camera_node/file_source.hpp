@@ -3,7 +3,8 @@
 // until a file is missing) or a video file (OpenCV videoio). Frame f gets capture_utime =
 // start_utime + f * 1e6 / fps.
 //
-// Parameters: path (required), fps (30), start_utime (0: the time start() was called),
+// Parameters: path (required), fps (30), start_utime (0: the time start() was called; quote it in
+// YAML, cv::FileStorage integers are 32-bit),
 // first_index (0), loop (false), preload (false: read every frame into memory at start(), so that
 // grab() neither allocates nor touches the disk — for benchmarks and tests).
 #include <opencv2/videoio.hpp>
