@@ -144,28 +144,15 @@ void Horprasert::end_learning() {
   learnt_.shrink_to_fit();
 }
 
-void Horprasert::apply(const cv::Mat& bgr, cv::Mat& mask) {
-  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
-  HULLPOSE_ASSERT(mask.isContinuous());
-  cv::split(bgr, planes_);  // SIMD in OpenCV; planes_ are preallocated
-  const size_t n = static_cast<size_t>(size_.area());
-  const uint8_t* __restrict p0 = planes_[0].ptr<uint8_t>();
-  const uint8_t* __restrict p1 = planes_[1].ptr<uint8_t>();
-  const uint8_t* __restrict p2 = planes_[2].ptr<uint8_t>();
-  const float* __restrict is0 = inv_sigma_[0].data();
-  const float* __restrict is1 = inv_sigma_[1].data();
-  const float* __restrict is2 = inv_sigma_[2].data();
-  const float* __restrict m0 = m_[0].data();
-  const float* __restrict m1 = m_[1].data();
-  const float* __restrict m2 = m_[2].data();
-  const float* __restrict im2 = inv_m2_.data();
-  const float* __restrict cdmax = cd2_max_.data();
-  const float* __restrict alo = alpha_lo_.data();
-  const float* __restrict ahi = alpha_hi_.data();
-  uint8_t* __restrict cls = classes_.ptr<uint8_t>();
-  uint8_t* __restrict out = mask.ptr<uint8_t>();
-  const float min_alpha = static_cast<float>(params_.min_shadow_brightness);
-  // Hot loop: straight-line float arithmetic and selects, no branches, so it vectorises.
+namespace {
+
+// Hot loop: straight-line float arithmetic, no branches, every pointer a __restrict parameter
+// (GCC honours restrict only on parameters), so it vectorises.
+void classify(size_t n, const uint8_t* __restrict p0, const uint8_t* __restrict p1, const uint8_t* __restrict p2,
+              const float* __restrict is0, const float* __restrict is1, const float* __restrict is2,
+              const float* __restrict m0, const float* __restrict m1, const float* __restrict m2,
+              const float* __restrict im2, const float* __restrict cdmax, const float* __restrict alo,
+              const float* __restrict ahi, float min_alpha, uint8_t* __restrict cls, uint8_t* __restrict out) {
   for (size_t i = 0; i < n; ++i) {
     const float x0 = static_cast<float>(p0[i]) * is0[i];
     const float x1 = static_cast<float>(p1[i]) * is1[i];
@@ -173,12 +160,25 @@ void Horprasert::apply(const cv::Mat& bgr, cv::Mat& mask) {
     const float al = (x0 * m0[i] + x1 * m1[i] + x2 * m2[i]) * im2[i];
     const float d0 = x0 - al * m0[i], d1 = x1 - al * m1[i], d2 = x2 - al * m2[i];
     const float cd2 = d0 * d0 + d1 * d1 + d2 * d2;
-    const bool fg = (cd2 > cdmax[i]) | (al < min_alpha);
-    const bool bg = (al >= alo[i]) & (al <= ahi[i]);
-    const uint8_t c = fg ? kForeground : bg ? kBackground : al < 1.f ? kShadow : kHighlight;
-    cls[i] = c;
-    out[i] = fg ? 255 : 0;
+    const int fg = (cd2 > cdmax[i]) | (al < min_alpha);
+    const int bg = (al >= alo[i]) & (al <= ahi[i]);
+    // kForeground if fg, else kBackground if bg, else kShadow (darker) or kHighlight, as arithmetic.
+    const int fg_bits = -fg & 0xff;
+    cls[i] = static_cast<uint8_t>(((2 - (al < 1.f)) * (1 - bg)) | fg_bits);
+    out[i] = static_cast<uint8_t>(fg_bits);
   }
+}
+
+}  // namespace
+
+void Horprasert::apply(const cv::Mat& bgr, cv::Mat& mask) {
+  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
+  HULLPOSE_ASSERT(mask.isContinuous());
+  cv::split(bgr, planes_);  // SIMD in OpenCV; planes_ are preallocated
+  classify(static_cast<size_t>(size_.area()), planes_[0].ptr<uint8_t>(), planes_[1].ptr<uint8_t>(),
+           planes_[2].ptr<uint8_t>(), inv_sigma_[0].data(), inv_sigma_[1].data(), inv_sigma_[2].data(), m_[0].data(),
+           m_[1].data(), m_[2].data(), inv_m2_.data(), cd2_max_.data(), alpha_lo_.data(), alpha_hi_.data(),
+           static_cast<float>(params_.min_shadow_brightness), classes_.ptr<uint8_t>(), mask.ptr<uint8_t>());
 }
 
 }  // namespace hullpose::camera_node

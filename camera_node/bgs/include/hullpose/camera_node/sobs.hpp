@@ -31,9 +31,14 @@ struct SobsParams {
 
 class Sobs final : public BackgroundSubtractor {
  public:
-  // One colour in the HSV cone: chroma vector (S V cos H, S V sin H), value V, 0. A GCC/Clang
-  // vector type, so that the per-cell arithmetic is SIMD on x86 and ARM alike.
-  using Cell = float __attribute__((vector_size(16)));
+  // Four floats as one GCC/Clang vector, so that the arithmetic below is SIMD on x86 and ARM.
+  using Vec4 = float __attribute__((vector_size(16)));
+  // Three horizontally adjacent cells of the map (one pixel's slots in one row of its 3 x 3
+  // block) in SoA form: lanes 0..2 are the cells, lane 3 is padding that never matches.
+  // Colours are points of the HSV cone: chroma vector (S V cos H, S V sin H) and value V.
+  struct Block {
+    Vec4 x, y, v;
+  };
 
   explicit Sobs(SobsParams params = {}) : params_(params) {}
   std::string_view name() const override { return "sobs"; }
@@ -49,10 +54,10 @@ class Sobs final : public BackgroundSubtractor {
   SobsParams params_;
   cv::Size size_;
   int learnt_ = 0;
-  int learn_total_ = 0;
-  std::vector<Cell> map_;   // (3H) x (3W) cells, row-major
-  std::vector<Cell> cone_;  // the current frame in the cone, W x H
-  cv::Mat learn_mask_;
+  // The map: (3H + 2) rows of (W + 2) blocks; the outer ring is a margin that absorbs the
+  // neighbourhood updates of edge pixels so the inner loop has no bounds checks.
+  std::vector<Block> map_;
+  std::vector<Vec4> cone_;  // the current frame in the cone (x, y, v, 0), W x H
 };
 
 }  // namespace hullpose::camera_node
