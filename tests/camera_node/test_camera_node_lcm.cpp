@@ -146,7 +146,8 @@ TEST_CASE("a camera node process publishes its silhouettes over UDP multicast") 
   for (int i = 0; i < last.num_counters; ++i) counters[last.counter_name[static_cast<size_t>(i)]] = last.counter_value[static_cast<size_t>(i)];
   CHECK(counters["messages_sent"] == kFrames);
   CHECK(counters["bytes_sent"] > 0);
-  CHECK(counters.count("queue_full") == 0);
+  CHECK(counters.at("queue_full") == 0);
+  CHECK(counters.at("publish_error") == 0);
 }
 
 TEST_CASE("the camera node process fails cleanly on a malformed config or an absent camera") {

@@ -56,6 +56,8 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
   } catch (const Error& e) {
     HULLPOSE_THROW(file << ": " << e.what());
   }
+  counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
+  counters_.add("no_trigger", 0);
   publisher_ = std::make_unique<SilhouettePublisher>(config_.lcm, rig_.rig_id, config_.camera_id, counters_);
   mask_ = cv::Mat::zeros(camera_.height, camera_.width, CV_8UC1);
   roi_mask_.create(roi_.size(), CV_8UC1);

@@ -13,6 +13,9 @@ SilhouettePublisher::SilhouettePublisher(const LcmConfig& config, std::string ri
     : config_(config), rig_id_(std::move(rig_id)), camera_id_(camera_id), counters_(counters), lcm_(config.url) {
   HULLPOSE_THROW_UNLESS(lcm_.good(), "lcm.url: cannot open LCM at '" << config.url
                                                                      << "' (bad URL, or no multicast route?)");
+  // Named up front: a counter allocates its name on first use, which must not be on the frame path.
+  counters_.add("queue_full", 0);
+  counters_.add("publish_error", 0);
   ring_.resize(static_cast<size_t>(config.queue_depth));
   for (auto& m : ring_) {
     m.rig_id = rig_id_;

@@ -93,6 +93,7 @@ void FileSource::start() {
     frames_.clear();
     cv::Mat m;
     while (read_next(m)) frames_.push_back(m.clone());
+    next_index_ = 0;
   }
 }
 
