@@ -75,26 +75,16 @@ long allocations_in(F&& f) {
 }  // namespace
 
 TEST_CASE("our subtraction methods allocate nothing per frame") {
-  test::SceneOptions o;
-  o.size = {160, 120};
-  o.frames = 8;
-  const test::SyntheticScene scene(o);
-  cv::Mat bgr, truth, mask(o.size, CV_8UC1);
+  const test::SynthSequence seq = test::small_synth({160, 120}, 8, 10, 1);
+  cv::Mat mask(seq.frames[0].size(), CV_8UC1);
   for (const std::string method : {"horprasert", "codebook", "sobs"}) {
     auto s = make_subtractor(method, Params("bgs.params"));
-    s->begin_learning(o.size);
-    for (int k = 0; k < 10; ++k) {
-      scene.background_frame(k, bgr);
-      s->learn(bgr);
-    }
+    s->begin_learning(mask.size());
+    for (const cv::Mat& b : seq.background) s->learn(b);
     s->end_learning();
-    scene.frame(0, bgr, truth);
-    s->apply(bgr, mask);  // first frame may size scratch buffers
+    s->apply(seq.frames[0], mask);  // first frame may size scratch buffers
     long n = 0;
-    for (int f = 1; f < o.frames; ++f) {
-      scene.frame(f, bgr, truth);
-      n += allocations_in([&] { s->apply(bgr, mask); });
-    }
+    for (size_t f = 1; f < seq.frames.size(); ++f) n += allocations_in([&] { s->apply(seq.frames[f], mask); });
     INFO(method);
     CHECK(n == 0);
   }
@@ -102,10 +92,8 @@ TEST_CASE("our subtraction methods allocate nothing per frame") {
 
 TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates nothing") {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "hullpose_test_camera_alloc";
-  test::SceneOptions o;
-  o.size = {160, 120};
-  o.frames = 8;
-  test::write_dataset(dir, test::SyntheticScene(o), 0, 10);
+  constexpr int kFrames = 8;
+  test::write_dataset(dir, test::small_synth({160, 120}, kFrames, 10, 1), 0);
   NodeConfig config = load_node_config(test::write_node_config(dir, 0, "sobs", "memq://"));
   config.lcm.status_period_ms = 600000;  // no STATUS (built once a period) inside the measurement
   config.lcm.queue_depth = 2;
@@ -118,12 +106,12 @@ TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates not
   Frame frame;
   // Warm-up: one pass over the sequence sizes every buffer (ring slots, the encoder's run list)
   // for the largest silhouette; the second pass over the same frames is the steady state.
-  for (int f = 0; f < o.frames; ++f) {
+  for (int f = 0; f < kFrames; ++f) {
     REQUIRE(node.capture(frame, 0) == GrabStatus::kFrame);
     node.process(frame, {});
   }
   long n = 0;
-  for (int f = 0; f < o.frames; ++f) {
+  for (int f = 0; f < kFrames; ++f) {
     n += allocations_in([&] {
       REQUIRE(node.capture(frame, 0) == GrabStatus::kFrame);
       node.process(frame, {f, f});

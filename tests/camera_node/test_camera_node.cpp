@@ -3,9 +3,11 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "hullpose/camera_node/camera_node.hpp"
 #include "hullpose/common/check.hpp"
+#include "mask_score.hpp"
 #include "test_dataset.hpp"
 
 using namespace hullpose;
@@ -17,11 +19,7 @@ namespace {
 const fs::path& dataset() {
   static const fs::path dir = [] {
     const fs::path d = fs::temp_directory_path() / "hullpose_test_camera_node";
-    test::SceneOptions o;
-    o.size = {320, 240};
-    o.frames = 6;
-    o.seed = 11;
-    test::write_dataset(d, test::SyntheticScene(o), 1, 20);
+    test::write_dataset(d, test::small_synth({320, 240}, 6, 20, 2), 1);
     return d;
   }();
   return dir;
@@ -52,21 +50,27 @@ TEST_CASE("the node turns replayed frames into silhouettes close to the ground t
   }
   CHECK(node.capture(frame, 100) == GrabStatus::kEndOfStream);
   CHECK(node.frames_processed() == 6);
+  INFO("precision " << score.precision() << " recall " << score.recall());
   CHECK(score.f1() > 0.9);
   node.stop();
   node.stop();
 }
 
 TEST_CASE("pixels outside the ROI are background") {
-  CameraNode node(load_node_config(
-      test::write_node_config(dataset(), 1, "horprasert", "memq://", "  roi: [0, 0, 150, 240]\n")));
+  // An ROI that cuts the person of frame 1 in half.
+  const cv::Mat truth = cv::imread(test::indexed(dataset() / "cam1", "mask", 1), cv::IMREAD_GRAYSCALE);
+  const cv::Rect person = cv::boundingRect(truth);
+  REQUIRE(person.area() > 100);
+  const int cut = person.x + person.width / 2;
+  CameraNode node(load_node_config(test::write_node_config(
+      dataset(), 1, "horprasert", "memq://", "  roi: [0, 0, " + std::to_string(cut) + ", 240]\n")));
   node.start();
   Frame frame;
   REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
-  REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);  // the person starts near x = 0.2 w
+  REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
   const cv::Mat& mask = node.process(frame, {});
-  CHECK(cv::countNonZero(mask(cv::Rect(0, 0, 150, 240))) > 500);
-  CHECK(cv::countNonZero(mask(cv::Rect(150, 0, 170, 240))) == 0);
+  CHECK(cv::countNonZero(mask(cv::Rect(0, 0, cut, 240))) > cv::countNonZero(truth(cv::Rect(0, 0, cut, 240))) / 2);
+  CHECK(cv::countNonZero(mask(cv::Rect(cut, 0, 320 - cut, 240))) == 0);
 }
 
 TEST_CASE("run() stamps frames through the trigger seam and counts frames without a trigger") {

@@ -1,14 +1,14 @@
 #pragma once
 // Writes a one-camera dataset in the layout of docs/conventions.md (rig.yaml,
-// cam<ID>/background_*.png, cam<ID>/rgb_*.png, cam<ID>/mask_*.png) from a SyntheticScene, plus a
-// node config that replays it. For the camera-node tests.
+// cam<ID>/background_*.png, cam<ID>/rgb_*.png, cam<ID>/mask_*.png) from a synthetic-rig sequence,
+// plus a node config that replays it. For the camera-node tests.
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "hullpose/common/rig.hpp"
-#include "synthetic_scene.hpp"
+#include "synth_sequence.hpp"
 
 namespace hullpose::test {
 
@@ -18,8 +18,7 @@ inline std::string indexed(const std::filesystem::path& dir, const char* stem, i
   return (dir / name).string();
 }
 
-inline void write_dataset(const std::filesystem::path& dir, const SyntheticScene& scene, int camera_id,
-                          int background_frames) {
+inline void write_dataset(const std::filesystem::path& dir, const SynthSequence& seq, int camera_id) {
   std::filesystem::remove_all(dir);
   const std::filesystem::path cam = dir / ("cam" + std::to_string(camera_id));
   std::filesystem::create_directories(cam);
@@ -29,24 +28,30 @@ inline void write_dataset(const std::filesystem::path& dir, const SyntheticScene
   CameraModel c;
   c.id = camera_id;
   c.name = "cam" + std::to_string(camera_id);
-  c.width = scene.options().size.width;
-  c.height = scene.options().size.height;
+  c.width = seq.frames.empty() ? seq.background[0].cols : seq.frames[0].cols;
+  c.height = seq.frames.empty() ? seq.background[0].rows : seq.frames[0].rows;
   c.fx = c.fy = 500;
   c.cx = c.width / 2.0;
   c.cy = c.height / 2.0;
   c.t = Eigen::Vector3d(0, 0, 3000);
   rig.cameras.push_back(c);
   save_rig(rig, dir / "rig.yaml");
-  cv::Mat bgr, mask;
-  for (int k = 0; k < background_frames; ++k) {
-    scene.background_frame(k, bgr);
-    cv::imwrite(indexed(cam, "background", k), bgr);
+  for (size_t k = 0; k < seq.background.size(); ++k)
+    cv::imwrite(indexed(cam, "background", static_cast<int>(k)), seq.background[k]);
+  for (size_t f = 0; f < seq.frames.size(); ++f) {
+    cv::imwrite(indexed(cam, "rgb", static_cast<int>(f)), seq.frames[f]);
+    cv::imwrite(indexed(cam, "mask", static_cast<int>(f)), seq.truth[f]);
   }
-  for (int f = 0; f < scene.options().frames; ++f) {
-    scene.frame(f, bgr, mask);
-    cv::imwrite(indexed(cam, "rgb", f), bgr);
-    cv::imwrite(indexed(cam, "mask", f), mask);
-  }
+}
+
+// A small synthetic sequence for the node tests.
+inline SynthSequence small_synth(cv::Size size, int frames, int background_frames, uint64_t seed) {
+  SynthSequenceOptions o;
+  o.size = size;
+  o.frames = frames;
+  o.background_frames = background_frames;
+  o.seed = seed;
+  return render_synth_sequence(o);
 }
 
 // A node config replaying `dir` for camera `camera_id`; `extra` is appended verbatim (inside `post:`).

@@ -44,7 +44,7 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
                                                      << roi_.width << ", " << roi_.height << "] is outside the "
                                                      << camera_.width << "x" << camera_.height << " image of camera "
                                                      << camera_.id);
-  const SourceContext context{config_.camera_id, camera_, config_.base_dir};
+  const SourceContext context{config_.camera_id, camera_, rig_.volume, config_.base_dir};
   source_ = sources.create(config_.source.type, config_.source.params, context);
   if (!config_.bgs.background.empty()) {
     Params bg(file + ": bgs.background");

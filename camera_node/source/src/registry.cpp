@@ -1,6 +1,7 @@
 #include "hullpose/camera_node/file_source.hpp"
 #include "hullpose/camera_node/frame_source.hpp"
 #include "hullpose/camera_node/libcamera_source.hpp"
+#include "hullpose/camera_node/synthetic_source.hpp"
 #include "hullpose/camera_node/v4l2_source.hpp"
 #include "hullpose/common/check.hpp"
 
@@ -12,6 +13,7 @@ SourceRegistry& SourceRegistry::builtin() {
     r.add("libcamera", [](const Params& p, const SourceContext& c) { return std::make_unique<LibcameraSource>(p, c); });
     r.add("v4l2", [](const Params& p, const SourceContext& c) { return std::make_unique<V4l2Source>(p, c); });
     r.add("file", [](const Params& p, const SourceContext& c) { return std::make_unique<FileSource>(p, c); });
+    r.add("synthetic", [](const Params& p, const SourceContext& c) { return std::make_unique<SyntheticSource>(p, c); });
     return r;
   }();
   return registry;

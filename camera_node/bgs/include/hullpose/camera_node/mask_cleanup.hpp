@@ -9,8 +9,8 @@ namespace hullpose::camera_node {
 
 struct CleanupParams {
   int open_radius = 1;
-  int close_radius = 2;
-  int min_blob_area = 64;
+  int close_radius = 1;
+  int min_blob_area = 32;
 };
 
 class MaskCleanup {

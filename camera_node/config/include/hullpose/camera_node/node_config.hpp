@@ -14,8 +14,8 @@
 //     params: { epsilon_online: 0.008 }
 //   post:
 //     open_radius: 1                # morphological opening, then closing (pixels; 0 = off)
-//     close_radius: 2
-//     min_blob_area: 64             # connected components smaller than this are removed
+//     close_radius: 1
+//     min_blob_area: 32             # connected components smaller than this are removed
 //     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
@@ -43,8 +43,8 @@ struct BgsConfig {
 
 struct PostConfig {
   int open_radius = 1;
-  int close_radius = 2;
-  int min_blob_area = 64;
+  int close_radius = 1;
+  int min_blob_area = 32;
   cv::Rect roi;  // empty: the whole image
 };
 

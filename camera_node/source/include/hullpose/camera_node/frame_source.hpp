@@ -19,6 +19,7 @@
 
 #include "hullpose/camera_node/params.hpp"
 #include "hullpose/common/camera.hpp"
+#include "hullpose/common/rig.hpp"
 
 namespace hullpose::camera_node {
 
@@ -57,12 +58,13 @@ class FrameSource {
 struct SourceContext {
   int camera_id = 0;
   CameraModel camera;              // from the rig file: the image size frames must have
+  CaptureVolume volume;            // the rig's capture volume (where a simulated subject stands)
   std::filesystem::path base_dir;  // relative file paths in the parameters are relative to this
 };
 
 using SourceFactory = std::function<std::unique_ptr<FrameSource>(const Params&, const SourceContext&)>;
 
-// Backends by name. builtin() holds libcamera, v4l2 and file (and synthetic when built);
+// Backends by name. builtin() holds libcamera, v4l2, file and synthetic;
 // tests may add their own.
 class SourceRegistry {
  public:
