@@ -36,6 +36,16 @@ using Vec4i = int32_t __attribute__((vector_size(16)));
 
 inline Vec4 splat(float f) { return Vec4{f, f, f, f}; }
 
+// The HSV cone point of a BGR pixel. Hue and chroma come from the opponent axes
+// (R - (G+B)/2, sqrt(3)/2 (G - B)) — the chroma plane of the HSV hexcone (Hanbury 2003) —
+// so no trigonometry per pixel; their length is max - min = S V up to the hexagon-to-circle
+// factor (between sqrt(3)/2 and 1).
+inline Vec4 cone(const uint8_t* bgr) {
+  constexpr float k = 1.f / 255.f, half_sqrt3 = 0.8660254f;
+  const float b = bgr[0] * k, g = bgr[1] * k, r = bgr[2] * k;
+  return Vec4{r - 0.5f * (g + b), half_sqrt3 * (g - b), std::max(r, std::max(g, b)), 0.f};
+}
+
 inline Vec4 dist2(const Block& b, Vec4 px, Vec4 py, Vec4 pv) {
   const Vec4 dx = b.x - px, dy = b.y - py, dv = b.v - pv;
   return dx * dx + dy * dy + dv * dv;
@@ -54,33 +64,15 @@ void Sobs::begin_learning(cv::Size size) {
   learnt_ = 0;
   const size_t rows = 3 * static_cast<size_t>(size.height) + 2, cols = static_cast<size_t>(size.width) + 2;
   map_.assign(rows * cols, Block{splat(kNeverMatches), splat(0.f), splat(0.f)});
-  cone_.assign(static_cast<size_t>(size.area()), splat(0.f));
-}
-
-// The HSV cone point of a BGR pixel. Hue and chroma come from the opponent axes
-// (R - (G+B)/2, sqrt(3)/2 (G - B)) — the chroma plane of the HSV hexcone (Hanbury 2003) —
-// so no trigonometry per pixel; their length is max - min = S V up to the hexagon-to-circle
-// factor (between sqrt(3)/2 and 1).
-void Sobs::to_cone(const cv::Mat& bgr) {
-  constexpr float k = 1.f / 255.f, half_sqrt3 = 0.8660254f;
-  for (int y = 0; y < size_.height; ++y) {
-    const uint8_t* row = bgr.ptr<uint8_t>(y);
-    Vec4* out = &cone_[static_cast<size_t>(y) * static_cast<size_t>(size_.width)];
-    for (int x = 0; x < size_.width; ++x) {
-      const float b = row[3 * x] * k, g = row[3 * x + 1] * k, r = row[3 * x + 2] * k;
-      out[x] = Vec4{r - 0.5f * (g + b), half_sqrt3 * (g - b), std::max(r, std::max(g, b)), 0.f};
-    }
-  }
 }
 
 void Sobs::learn(const cv::Mat& bgr) {
   HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_);
-  to_cone(bgr);
   if (learnt_ == 0) {  // the map starts as nine copies of the first frame
     const size_t cols = static_cast<size_t>(size_.width) + 2;
     for (int y = 0; y < size_.height; ++y)
       for (int x = 0; x < size_.width; ++x) {
-        const Vec4 c = cone_[static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x)];
+        const Vec4 c = cone(bgr.ptr<uint8_t>(y) + 3 * x);
         for (size_t b = 0; b < 3; ++b) {
           Block& blk = map_[(3 * static_cast<size_t>(y) + b + 1) * cols + static_cast<size_t>(x) + 1];
           blk.x = Vec4{c[0], c[0], c[0], kNeverMatches};
@@ -91,21 +83,20 @@ void Sobs::learn(const cv::Mat& bgr) {
   }
   ++learnt_;
   const double alpha = std::max(params_.alpha_online, params_.alpha_learn / learnt_);
-  step(static_cast<float>(params_.epsilon_learn), static_cast<float>(alpha), nullptr);
+  step(bgr, static_cast<float>(params_.epsilon_learn), static_cast<float>(alpha), nullptr);
 }
 
 void Sobs::end_learning() { HULLPOSE_THROW_UNLESS(learnt_ > 0, "sobs: no background frame was learnt"); }
 
 void Sobs::apply(const cv::Mat& bgr, cv::Mat& mask) {
   HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
-  to_cone(bgr);
-  step(static_cast<float>(params_.epsilon_online), static_cast<float>(params_.alpha_online), &mask);
+  step(bgr, static_cast<float>(params_.epsilon_online), static_cast<float>(params_.alpha_online), &mask);
 }
 
-// One pass of the network over the current frame (cone_). Written by hand: it is the method
+// One pass of the network over a frame. Written by hand: it is the method
 // itself, and the per-pixel best-match search and neighbourhood update are data-dependent, which
 // no OpenCV primitive expresses. Per pixel, SIMD over the three cells of a block row.
-void Sobs::step(float epsilon, float alpha, cv::Mat* mask) {
+void Sobs::step(const cv::Mat& bgr, float epsilon, float alpha, cv::Mat* mask) {
   const size_t w = static_cast<size_t>(size_.width), cols = w + 2;
   // Neighbourhood weights: the 3 x 3 Gaussian (1 2 1)^T (1 2 1) / 4, so the best match moves by
   // alpha. For a best match in lane a of a block row, `own` weighs the lanes of the same block and
@@ -128,10 +119,10 @@ void Sobs::step(float epsilon, float alpha, cv::Mat* mask) {
   const float s_max = static_cast<float>(params_.shadow_s_max), h_max = static_cast<float>(params_.shadow_h_max);
   for (int y = 0; y < size_.height; ++y) {
     uint8_t* out = mask ? mask->ptr<uint8_t>(y) : nullptr;
-    const Vec4* in = &cone_[static_cast<size_t>(y) * w];
+    const uint8_t* in = bgr.ptr<uint8_t>(y);
     Block* row0 = &map_[(3 * static_cast<size_t>(y) + 1) * cols + 1];
     for (size_t x = 0; x < w; ++x) {
-      const Vec4 p = in[x];
+      const Vec4 p = cone(in + 3 * x);
       const Vec4 px = splat(p[0]), py = splat(p[1]), pv = splat(p[2]);
       Block* r0 = row0 + x;
       const Vec4 d0 = dist2(r0[0], px, py, pv), d1 = dist2(r0[cols], px, py, pv), d2 = dist2(r0[2 * cols], px, py, pv);

@@ -48,8 +48,7 @@ class Sobs final : public BackgroundSubtractor {
   void apply(const cv::Mat& bgr, cv::Mat& mask) override;
 
  private:
-  void to_cone(const cv::Mat& bgr);
-  void step(float epsilon, float alpha, cv::Mat* mask);
+  void step(const cv::Mat& bgr, float epsilon, float alpha, cv::Mat* mask);
 
   SobsParams params_;
   cv::Size size_;
@@ -57,7 +56,6 @@ class Sobs final : public BackgroundSubtractor {
   // The map: (3H + 2) rows of (W + 2) blocks; the outer ring is a margin that absorbs the
   // neighbourhood updates of edge pixels so the inner loop has no bounds checks.
   std::vector<Block> map_;
-  std::vector<Vec4> cone_;  // the current frame in the cone (x, y, v, 0), W x H
 };
 
 }  // namespace hullpose::camera_node
