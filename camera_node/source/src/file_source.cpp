@@ -40,8 +40,11 @@ FileSource::FileSource(const Params& params, const SourceContext& context)
     : size_(context.camera.width, context.camera.height), camera_id_(context.camera_id) {
   const std::filesystem::path p(params.require_string("path"));
   path_ = (p.is_absolute() ? p : context.base_dir / p).string();
-  IndexPattern check;
-  pattern_ = IndexPattern::parse(path_, check);
+  IndexPattern pattern;
+  pattern_ = IndexPattern::parse(path_, pattern);
+  prefix_ = pattern.prefix;
+  suffix_ = pattern.suffix;
+  width_ = pattern.width;
   fps_ = params.get_double("fps", 30.0, 0.001, 100000.0);
   start_utime_ = static_cast<int64_t>(params.get_double("start_utime", 0.0, 0.0, 9.2e18));
   first_index_ = params.get_int("first_index", 0, 0, 1 << 30);
@@ -55,9 +58,7 @@ std::string FileSource::describe() const {
 
 bool FileSource::read_next(cv::Mat& out) {
   if (pattern_) {
-    IndexPattern pattern;
-    IndexPattern::parse(path_, pattern);
-    const std::string name = pattern.at(first_index_ + next_index_);
+    const std::string name = IndexPattern{prefix_, suffix_, width_}.at(first_index_ + next_index_);
     if (!std::filesystem::exists(name)) return false;
     out = cv::imread(name, cv::IMREAD_COLOR);
     HULLPOSE_THROW_UNLESS(!out.empty(), "camera " << camera_id_ << ": file source: cannot decode image " << name);
@@ -77,9 +78,7 @@ void FileSource::start() {
   delivered_ = 0;
   t0_ = start_utime_ > 0 ? start_utime_ : realtime_utime();
   if (pattern_) {
-    IndexPattern pattern;
-    IndexPattern::parse(path_, pattern);
-    const std::string first = pattern.at(first_index_);
+    const std::string first = IndexPattern{prefix_, suffix_, width_}.at(first_index_);
     HULLPOSE_THROW_UNLESS(std::filesystem::exists(first), "camera " << camera_id_ << ": file source: first image "
                                                                     << first << " not found (pattern " << path_
                                                                     << ", first_index " << first_index_ << ")");

@@ -44,7 +44,7 @@ class SilhouettePublisher {
   SilhouettePublisher& operator=(const SilhouettePublisher&) = delete;
 
   // Encodes `mask` (CV_8UC1) and queues it; returns false if the ring was full (counted
-  // "queue_full"). Returns the encode time in `encode_us`.
+  // "queue_full"). Returns the encode time in `encode_us`. One producer: call from one thread.
   bool publish(const cv::Mat& mask, const SilhouetteStamp& stamp, int32_t* encode_us = nullptr);
   // Queues a status message (replacing one not yet sent).
   void publish_status(const hullpose_msg::node_status_t& status);

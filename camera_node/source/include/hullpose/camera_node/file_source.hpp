@@ -6,7 +6,8 @@
 // Parameters: path (required), fps (30), start_utime (0: the time start() was called; quote it in
 // YAML, cv::FileStorage integers are 32-bit),
 // first_index (0), loop (false), preload (false: read every frame into memory at start(), so that
-// grab() neither allocates nor touches the disk — for benchmarks and tests).
+// grab() neither allocates nor touches the disk — for benchmarks and tests; without it each frame
+// is decoded from disk, which allocates).
 #include <opencv2/videoio.hpp>
 
 #include "hullpose/camera_node/frame_source.hpp"
@@ -25,6 +26,8 @@ class FileSource final : public FrameSource {
   bool read_next(cv::Mat& out);
   std::string path_;
   bool pattern_ = false;
+  std::string prefix_, suffix_;  // an image sequence's path around the index ...
+  int width_ = 0;                // ... and the index's zero-padded width
   double fps_ = 30;
   int64_t start_utime_ = 0;
   int first_index_ = 0;
