@@ -38,6 +38,7 @@ bool SilhouettePublisher::publish(const cv::Mat& mask, const SilhouetteStamp& st
   std::unique_lock lock(mutex_);
   if (count_ == ring_.size()) {
     lock.unlock();
+    if (encode_us) *encode_us = 0;
     counters_.add("queue_full");
     HULLPOSE_LOG(Publish, Debug) << "camera " << camera_id_ << ": silhouette of trigger " << stamp.trigger_seq
                                  << " dropped: network queue full";
