@@ -138,9 +138,7 @@ const bool registered = [] {
       const std::string what = "synthetic/" + res;
       benchmark::RegisterBenchmark(("bgs/" + method + "/" + what).c_str(), [method, what, size](benchmark::State& st) {
         run(st, method, what, synthetic_cached(size));
-      })
-          ->Unit(benchmark::kMillisecond)
-          ->MinTime(0.5);
+      })->Unit(benchmark::kMillisecond);
     }
     benchmark::RegisterBenchmark(("bgs/cleanup/" + res).c_str(), [size](benchmark::State& st) { cleanup_bench(st, size); })
         ->Unit(benchmark::kMillisecond);
