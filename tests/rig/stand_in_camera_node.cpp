@@ -4,11 +4,16 @@
 // silhouette_t over LCM. --clock-offset-ms puts the board's clock off; --hostile also sends
 // garbage and hostile messages on SILHOUETTE after every frame; --free-running-fps F makes the
 // sensor ignore the trigger and run at its own rate and phase (the frame nearest each edge is
-// used, and its residual reported).
+// used, and its residual reported); --masks DIR replays a dataset's masks (DIR/cam<ID>/
+// mask_<FFFFFF>.png, docs/conventions.md) instead, frame = trigger_seq modulo the frame count, all
+// encoded once at start; --ready-file FILE is written once loaded, before waiting for the wire.
 #include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <csignal>
 #include <cstdio>
 #include <functional>
@@ -90,6 +95,7 @@ int main(int argc, char** argv) {
     int camera_id = 0;
     double offset_ms = 0, duration_s = 0, free_fps = 0;
     bool hostile = false;
+    std::string masks_dir, ready_file;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       HULLPOSE_THROW_UNLESS(a == "--hostile" || i + 1 < argc, "option " << a << " needs a value");
@@ -100,6 +106,8 @@ int main(int argc, char** argv) {
       else if (a == "--clock-offset-ms") offset_ms = std::stod(argv[++i]);
       else if (a == "--duration-s") duration_s = std::stod(argv[++i]);
       else if (a == "--hostile") hostile = true;
+      else if (a == "--masks") masks_dir = argv[++i];
+      else if (a == "--ready-file") ready_file = argv[++i];
       else if (a == "--free-running-fps") free_fps = std::stod(argv[++i]);
       else HULLPOSE_THROW("unknown option '" << a << "'");
     }
@@ -109,8 +117,28 @@ int main(int argc, char** argv) {
     lcm::LCM bus(lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << lcm_url << "' cannot be opened");
 
+    // Dataset masks, encoded once: per frame only the payload is sent.
+    std::vector<std::vector<uint8_t>> replay;
+    std::vector<PixelRoi> replay_roi;
+    if (!masks_dir.empty()) {
+      SilhouetteEncoder enc;
+      for (int f = 0;; ++f) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "/cam%d/mask_%06d.png", camera_id, f);
+        const std::string path = masks_dir + name;
+        if (!std::filesystem::exists(path)) break;
+        const cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
+        HULLPOSE_THROW_UNLESS(!m.empty() && m.cols == cam->width && m.rows == cam->height,
+                              path << ": not a " << cam->width << "x" << cam->height << " mask of camera " << camera_id);
+        replay.emplace_back();
+        replay_roi.push_back(enc.encode(m, replay.back()));
+      }
+      HULLPOSE_THROW_UNLESS(!replay.empty(), masks_dir << ": no masks of camera " << camera_id);
+    }
+    if (!ready_file.empty()) std::ofstream(ready_file) << "ready\n";
+
     Node node{rig, *cam, {static_cast<int64_t>(offset_ms * 1000)}, nullptr, {}};
-    auto wire_edges = trigger::open_edge_source(edges, node.clock);
+    auto wire_edges = trigger::open_edge_source(edges, node.clock, 60'000);
     int64_t frame_id = 0;
     trigger::TriggerListener* listener_ptr = nullptr;
     TriggeredSensor sensor(*wire_edges, [&](int64_t t) {
@@ -157,8 +185,15 @@ int main(int argc, char** argv) {
       listener.poll(node.clock.now_us(), tagged);
       for (const trigger::TaggedFrame& f : tagged) {
         const StageTimer t;
-        testing::draw_seq_mask(mask, f.edge.seq, camera_id);
-        const PixelRoi roi = encoder.encode(mask, msg.payload);
+        PixelRoi roi;
+        if (replay.empty()) {
+          testing::draw_seq_mask(mask, f.edge.seq, camera_id);
+          roi = encoder.encode(mask, msg.payload);
+        } else {
+          const auto frame = static_cast<size_t>(f.edge.seq) % replay.size();
+          msg.payload.assign(replay[frame].begin(), replay[frame].end());  // capacity reused
+          roi = replay_roi[frame];
+        }
         msg.utime = f.edge.utime;
         msg.trigger_seq = f.edge.seq;
         msg.capture_utime = f.capture_utime();

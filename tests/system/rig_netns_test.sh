@@ -64,7 +64,7 @@ spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url 
 listener=$spawned
 wait_until 10 test -f "$work/listen.ready"
 spawn "$work/master.log" master "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate "$rate" \
-  --line "wire:$wire" --lcm-url "$url" --count "$frames"
+  --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num"
 master=$spawned
 wait_until 10 test -S "$wire"
 declare -A cam_pid
