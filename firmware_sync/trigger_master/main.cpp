@@ -22,6 +22,7 @@ void on_signal(int) { g_stop = 1; }
 const char* kUsage =
     "usage: hullpose-trigger-master --rig-id ID [--rate HZ=30] [--pulse-us US=1000]\n"
     "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--count N] [--control-stdin]\n"
+    "         [--wait-nodes N]   (wire: start pulsing once N camera nodes are connected, at most 60 s)\n"
     "  --control-stdin reads commands from stdin: 'stop', 'start', 'rate HZ', 'quit'.\n";
 
 struct Options {
@@ -30,6 +31,7 @@ struct Options {
   std::string lcm_url;
   long long count = 0;  // 0: forever
   bool control_stdin = false;
+  long long wait_nodes = 0;
 };
 
 Options parse(int argc, char** argv) {
@@ -48,6 +50,7 @@ Options parse(int argc, char** argv) {
       else if (a == "--lcm-url") o.lcm_url = value();
       else if (a == "--count") o.count = std::stoll(value());
       else if (a == "--control-stdin") o.control_stdin = true;
+      else if (a == "--wait-nodes") o.wait_nodes = std::stoll(value());
       else HULLPOSE_THROW("unknown option '" << a << "'\n" << kUsage);
     } catch (const std::logic_error&) {
       HULLPOSE_THROW("option " << a << ": '" << argv[i] << "' is not a number");
@@ -91,6 +94,11 @@ int main(int argc, char** argv) {
     lcm::LCM bus(o.lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
     auto line = hullpose::sync::open_trigger_line(o.line);
+    if (o.wait_nodes > 0) {
+      const size_t got = line->wait_for_nodes(static_cast<size_t>(o.wait_nodes), 60'000);
+      HULLPOSE_THROW_UNLESS(got >= static_cast<size_t>(o.wait_nodes),
+                            "only " << got << " of " << o.wait_nodes << " camera nodes connected to " << line->describe() << " within 60 s");
+    }
     hullpose::sync::SystemClock clock;
     std::vector<uint8_t> buf(4096);
     hullpose::sync::TriggerMaster master(

@@ -21,7 +21,7 @@ wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 200)) || { echo "FAIL: no 
 "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA
 lcm-logger --lcm-url="$url_a" -f "$work/rig.lcmlog" 2> "$work/logger.log" & logger=$!; pids+=($logger)
 "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate 30 --line "wire:$work/wire.sock" \
-  --lcm-url "$url_a" --count 90 2> "$work/master.log" & master=$!; pids+=($master)
+  --lcm-url "$url_a" --count 90 --wait-nodes 3 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for "$work/wire.sock"
 for c in 0 1 2; do
   "$build/tests/rig/rig_stand_in_camera_node" --rig "$work/rig.yaml" --camera-id $c --edges "wire:$work/wire.sock" \

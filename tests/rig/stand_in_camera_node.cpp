@@ -2,10 +2,18 @@
 // stage (wire edge source, sequence mapper, frame matcher) and a simulated triggered sensor
 // whose frames are masks carrying their own sequence (seq_pattern.hpp), published as real
 // silhouette_t over LCM. --clock-offset-ms puts the board's clock off; --hostile also sends
-// garbage and hostile messages on SILHOUETTE after every frame.
+// garbage and hostile messages on SILHOUETTE after every frame; --free-running-fps F makes the
+// sensor ignore the trigger and run at its own rate and phase (the frame nearest each edge is
+// used, and its residual reported); --masks DIR replays a dataset's masks (DIR/cam<ID>/
+// mask_<FFFFFF>.png, docs/conventions.md) instead, frame = trigger_seq modulo the frame count, all
+// encoded once at start; --ready-file FILE is written once loaded, before waiting for the wire.
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <csignal>
 #include <cstdio>
 #include <functional>
@@ -85,8 +93,9 @@ int main(int argc, char** argv) {
     if (const char* spec = std::getenv("HULLPOSE_LOG")) log::set_levels(spec);
     std::string rig_file, edges = "wire:/tmp/hullpose-wire.sock", lcm_url;
     int camera_id = 0;
-    double offset_ms = 0, duration_s = 0;
+    double offset_ms = 0, duration_s = 0, free_fps = 0;
     bool hostile = false;
+    std::string masks_dir, ready_file;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       HULLPOSE_THROW_UNLESS(a == "--hostile" || i + 1 < argc, "option " << a << " needs a value");
@@ -97,6 +106,9 @@ int main(int argc, char** argv) {
       else if (a == "--clock-offset-ms") offset_ms = std::stod(argv[++i]);
       else if (a == "--duration-s") duration_s = std::stod(argv[++i]);
       else if (a == "--hostile") hostile = true;
+      else if (a == "--masks") masks_dir = argv[++i];
+      else if (a == "--ready-file") ready_file = argv[++i];
+      else if (a == "--free-running-fps") free_fps = std::stod(argv[++i]);
       else HULLPOSE_THROW("unknown option '" << a << "'");
     }
     const Rig rig = load_rig(rig_file);
@@ -105,14 +117,39 @@ int main(int argc, char** argv) {
     lcm::LCM bus(lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << lcm_url << "' cannot be opened");
 
+    // Dataset masks, encoded once: per frame only the payload is sent.
+    std::vector<std::vector<uint8_t>> replay;
+    std::vector<PixelRoi> replay_roi;
+    if (!masks_dir.empty()) {
+      SilhouetteEncoder enc;
+      for (int f = 0;; ++f) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "/cam%d/mask_%06d.png", camera_id, f);
+        const std::string path = masks_dir + name;
+        if (!std::filesystem::exists(path)) break;
+        const cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
+        HULLPOSE_THROW_UNLESS(!m.empty() && m.cols == cam->width && m.rows == cam->height,
+                              path << ": not a " << cam->width << "x" << cam->height << " mask of camera " << camera_id);
+        replay.emplace_back();
+        replay_roi.push_back(enc.encode(m, replay.back()));
+      }
+      HULLPOSE_THROW_UNLESS(!replay.empty(), masks_dir << ": no masks of camera " << camera_id);
+    }
+    if (!ready_file.empty()) std::ofstream(ready_file) << "ready\n";
+
     Node node{rig, *cam, {static_cast<int64_t>(offset_ms * 1000)}, nullptr, {}};
-    auto wire_edges = trigger::open_edge_source(edges, node.clock);
+    auto wire_edges = trigger::open_edge_source(edges, node.clock, 60'000);
     int64_t frame_id = 0;
     trigger::TriggerListener* listener_ptr = nullptr;
-    TriggeredSensor sensor(*wire_edges, [&](int64_t t) { listener_ptr->on_frame(frame_id++, t); });
+    TriggeredSensor sensor(*wire_edges, [&](int64_t t) {
+      if (free_fps <= 0) listener_ptr->on_frame(frame_id++, t);
+    });
     trigger::ListenerConfig cfg;
     cfg.rig_id = rig.rig_id;
-    cfg.matcher.max_residual_us = 10'000;
+    const int64_t frame_interval_us = free_fps > 0 ? static_cast<int64_t>(1e6 / free_fps) : 0;
+    cfg.matcher.max_residual_us = free_fps > 0 ? frame_interval_us / 2 + 1 : 10'000;
+    int64_t next_free_frame = node.clock.now_us() + 12'345;  // its own phase
+    int64_t residual_sum = 0, residual_max = 0;
     trigger::TriggerListener listener(cfg, sensor);
     listener_ptr = &listener;
     node.listener = &listener;
@@ -137,14 +174,26 @@ int main(int argc, char** argv) {
     int64_t next_status = monotonic_us() + 1'000'000;
     while (!g_stop && monotonic_us() < end) {
       pollfd p[2] = {{bus.getFileno(), POLLIN, 0}, {sensor.fd(), POLLIN, 0}};
-      const int n = ::poll(p, sensor.fd() >= 0 ? 2 : 1, 5);
+      int timeout_ms = 5;
+      if (free_fps > 0)
+        timeout_ms = static_cast<int>(std::clamp<int64_t>((next_free_frame - node.clock.now_us()) / 1000, 0, 5));
+      const int n = ::poll(p, sensor.fd() >= 0 ? 2 : 1, timeout_ms);
+      for (; free_fps > 0 && node.clock.now_us() >= next_free_frame; next_free_frame += frame_interval_us)
+        listener.on_frame(frame_id++, next_free_frame);
       if (n > 0 && (p[0].revents & POLLIN)) bus.handle();
       tagged.clear();
       listener.poll(node.clock.now_us(), tagged);
       for (const trigger::TaggedFrame& f : tagged) {
         const StageTimer t;
-        testing::draw_seq_mask(mask, f.edge.seq, camera_id);
-        const PixelRoi roi = encoder.encode(mask, msg.payload);
+        PixelRoi roi;
+        if (replay.empty()) {
+          testing::draw_seq_mask(mask, f.edge.seq, camera_id);
+          roi = encoder.encode(mask, msg.payload);
+        } else {
+          const auto frame = static_cast<size_t>(f.edge.seq) % replay.size();
+          msg.payload.assign(replay[frame].begin(), replay[frame].end());  // capacity reused
+          roi = replay_roi[frame];
+        }
         msg.utime = f.edge.utime;
         msg.trigger_seq = f.edge.seq;
         msg.capture_utime = f.capture_utime();
@@ -161,6 +210,8 @@ int main(int argc, char** argv) {
         if (hostile) publish_hostile(bus, {buf.begin(), buf.begin() + len}, rng);
         ++published;
         last_seq = f.edge.seq;
+        residual_sum += std::llabs(f.residual_us);
+        residual_max = std::max<int64_t>(residual_max, std::llabs(f.residual_us));
       }
       if (monotonic_us() >= next_status) {
         next_status += 1'000'000;
@@ -170,7 +221,8 @@ int main(int argc, char** argv) {
         s.role = "camera_node";
         s.node_id = camera_id;
         s.state = listener.mapper().synced() ? hullpose_msg::node_status_t::STATE_RUNNING : hullpose_msg::node_status_t::STATE_STARTING;
-        s.message = "offset node-master " + std::to_string(listener.mapper().offset_us()) + " us";
+        s.message = "offset node-master " + std::to_string(listener.mapper().offset_us()) + " us, frame residual mean " +
+                    std::to_string(published ? residual_sum / published : 0) + " us max " + std::to_string(residual_max) + " us";
         s.frames_total = published;
         s.last_trigger_seq = last_seq;
         for (const Counters* c : {&listener.mapper().counters(), &listener.matcher().counters()})
@@ -182,9 +234,10 @@ int main(int argc, char** argv) {
         bus.publish("STATUS", &s);
       }
     }
-    std::fprintf(stderr, "stand-in camera %d: %lld frames published, offset %lld us, %lld announcements;", camera_id,
-                 static_cast<long long>(published), static_cast<long long>(listener.mapper().offset_us()),
-                 static_cast<long long>(node.announcements));
+    std::fprintf(stderr, "stand-in camera %d: %lld frames published, offset %lld us, %lld announcements, |residual| mean %lld us max %lld us;",
+                 camera_id, static_cast<long long>(published), static_cast<long long>(listener.mapper().offset_us()),
+                 static_cast<long long>(node.announcements), static_cast<long long>(published ? residual_sum / published : 0),
+                 static_cast<long long>(residual_max));
     for (const Counters* c : {&listener.mapper().counters(), &listener.matcher().counters()})
       for (const auto& [name, value] : c->snapshot()) std::fprintf(stderr, " %s=%lld", name.c_str(), static_cast<long long>(value));
     std::fprintf(stderr, "\n");

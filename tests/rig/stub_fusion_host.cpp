@@ -4,7 +4,7 @@
 #include "seq_check_pipeline.hpp"
 
 int main(int argc, char** argv) {
-  return hullpose::fusion::service_main(argc, argv, "rig-stub-fusion-host", [](const hullpose::Rig&) {
+  return hullpose::fusion::service_main(argc, argv, "rig-stub-fusion-host", [](const hullpose::Rig&, const hullpose::fusion::PipelineOptions&) {
     return std::make_unique<hullpose::testing::SeqCheckPipeline>();
   });
 }

@@ -296,6 +296,47 @@ TEST_CASE("a restarted master (sequence back to 0, newer time) is followed") {
   CHECK(h.closed.size() == 2);
 }
 
+TEST_CASE("a master restart seen on TRIGGER (new epoch) closes the old run's frames and follows the new one") {
+  AssemblerConfig cfg;
+  cfg.min_cameras = 1;
+  Harness h(2, cfg);
+  hullpose_msg::trigger_t t{};
+  t.rig_id = "rigA";
+  t.period_us = static_cast<int32_t>(kP);
+  t.epoch = 1;
+  for (int64_t s = 0; s < 60; ++s) {
+    t.seq = s;
+    t.utime = kT0 + s * kP;
+    h.fa.on_trigger(t, s * kP);
+    h.send(0, s, s * kP + 1);
+    h.send(1, s, s * kP + 2);
+  }
+  h.send(0, 60, 61 * kP);  // seq 60 open with one view when the master restarts
+  const int64_t restart = kT0 + 60 * kP + 100'000;  // quickly: 100 ms later, sequences from 0
+  t.epoch = 2;
+  for (int64_t s = 0; s < 5; ++s) {
+    t.seq = s;
+    t.utime = restart + s * kP;
+    h.fa.on_trigger(t, 70 * kP + s * kP);
+    auto m0 = make_silhouette(h.rig, 0, s, t.utime), m1 = make_silhouette(h.rig, 1, s, t.utime);
+    h.fa.on_silhouette(m0, t.utime, 70 * kP + s * kP + 1);
+    h.fa.on_silhouette(m1, t.utime, 70 * kP + s * kP + 2);
+  }
+  t.epoch = 1;  // a straggler announcement of the old run
+  t.seq = 61;
+  h.fa.on_trigger(t, 80 * kP);
+  REQUIRE(h.closed.size() == 66);
+  CHECK(h.closed[60].seq == 60);
+  CHECK(h.closed[60].status == FrameStatus::kPartial);
+  for (int64_t s = 0; s < 5; ++s) {
+    CHECK(h.closed[static_cast<size_t>(61 + s)].seq == s);
+    CHECK(h.closed[static_cast<size_t>(61 + s)].status == FrameStatus::kComplete);
+  }
+  CHECK(h.fa.counters().get("epoch_change") == 1);
+  CHECK(h.fa.counters().get("stale_epoch_trigger") == 1);
+  CHECK(h.fa.counters().get("late") == 0);
+}
+
 TEST_CASE("bad assembler configuration fails clearly") {
   const Rig rig = make_rig(4);
   auto make = [&](AssemblerConfig c) { FrameAssembler fa(rig, c, [](const AssembledFrame&) {}); };

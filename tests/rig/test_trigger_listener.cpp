@@ -251,10 +251,11 @@ TEST_CASE("glitches, hostile announcements and silence are counted, memory stays
   m.on_announcement({1, 0, 11, 0, 0});    // zero period
   m.on_announcement({-4, 0, 11, kPeriod, 0});
   m.on_announcement({3, 0, 0, kPeriod, 0});  // no epoch
+  m.on_announcement({3, 0, 11, 1'000'000'000, 0});  // a 1000 s period
   CHECK(out.size() == 10);
   CHECK(m.counters().get("duplicate_edge") == 1);
   CHECK(m.counters().get("duplicate_announcement") == 10);
-  CHECK(m.counters().get("bad_announcement") == 3);
+  CHECK(m.counters().get("bad_announcement") == 4);
 
   SequenceMapper silent;
   for (int k = 0; k < 1000; ++k) silent.on_edge(k * kPeriod);

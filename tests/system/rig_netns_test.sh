@@ -3,7 +3,8 @@
 # and the fusion host each in their own namespace, joined by a bridge, LCM multicast across it.
 # Faults, all in one run: camera 1 is killed mid-run and restarted, camera 3's link drops 10 % of
 # LCM datagrams (nftables), camera 5's clock is 2 s off, camera 6 also sends garbage and hostile
-# messages on SILHOUETTE. Checks: every trigger sequence is published exactly once (fused, or
+# messages on SILHOUETTE; camera 7 is free-running at 50 fps (no trigger input: the frame nearest
+# each edge is used). Checks: every trigger sequence is published exactly once (fused, or
 # with its reason), no frame mixes sequences, the faults degrade frames as expected only.
 #
 # usage: rig_netns_test.sh BUILD_DIR [FRAMES=300] [RATE=30] [NUM=8]
@@ -63,7 +64,7 @@ spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url 
 listener=$spawned
 wait_until 10 test -f "$work/listen.ready"
 spawn "$work/master.log" master "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate "$rate" \
-  --line "wire:$wire" --lcm-url "$url" --count "$frames"
+  --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num"
 master=$spawned
 wait_until 10 test -S "$wire"
 declare -A cam_pid
@@ -71,6 +72,7 @@ start_cam() {
   local c=$1 extra=()
   [[ $c == 5 ]] && extra+=(--clock-offset-ms 2000)
   [[ $c == 6 ]] && extra+=(--hostile)
+  [[ $c == 7 ]] && extra+=(--free-running-fps 50)
   spawn "$work/cam$c.log" "cam$c" "$build/tests/rig/rig_stand_in_camera_node" --rig "$work/rig.yaml" --camera-id "$c" \
     --edges "wire:$wire" --lcm-url "$url" --duration-s "$seconds" "${extra[@]}"
   cam_pid[$c]=$spawned
@@ -126,6 +128,12 @@ if not 0.01 <= loss3 <= 0.5: fail.append(f"camera 3 missing from {loss3:.1%} of 
 c5 = frac(valid, lambda r: has(r, 5))
 print(f"  camera 5 (clock +2 s): in {c5:.0%} of valid frames")
 if c5 < 0.8: fail.append("camera 5 with its clock 2 s off is not labelling frames correctly")
+c7 = frac(valid, lambda r: has(r, 7))
+print(f"  camera 7 (free-running 50 fps, nearest frame): in {c7:.0%} of valid frames")
+if num > 7 and c7 < 0.8: fail.append("the free-running camera 7 is missing from too many frames")
+res = re.findall(r"camera 7: .*max (\d+) us;", open(f"{work}/cam7.log").read()) if num > 7 else []
+print(f"  camera 7 |frame - edge| residual max: {res} us (limit 10000: half its frame interval)")
+if num > 7 and (not res or any(int(r) > 10000 for r in res)): fail.append("camera 7's residual exceeds half a frame interval")
 host = open(f"{work}/host.log").read()
 counts = {k: int(v) for k, v in re.findall(r"(\w+)=(\d+)", host)}
 hostile = sum(counts.get(k, 0) for k in ("malformed_lcm", "decode_error", "bad_fields", "foreign_rig", "unknown_camera", "wrong_size", "implausible_time", "inconsistent_utime"))

@@ -5,7 +5,8 @@
 #
 # usage: rig-loopback.sh BUILD WORK FRAMES RATE NUM NODE_CMD HOST_CMD
 #   NODE_CMD, HOST_CMD: command templates; {cam} {rig} {wire} {url} {work} are substituted.
-# Leaves in WORK: skeletons.csv, estimates.csv (frame = trigger_seq), summary.json, *.log.
+# The master starts pulsing once all NUM nodes are connected to its wire (nodes may take a while
+# to load), so no trigger is lost to start-up. Leaves in WORK: skeletons.csv, estimates.csv (frame = trigger_seq), summary.json, *.log.
 # With LIVE=1 the listener prints fps and latency every second.
 set -euo pipefail
 build=$(cd "$1" && pwd) work=$2 frames=$3 rate=$4 num=$5 node_cmd=$6 host_cmd=$7
@@ -36,7 +37,7 @@ live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
 $(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
 "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
-  --rate "$rate" --line "wire:$wire" --lcm-url "$url" --count "$frames" 2> "$work/master.log" & master=$!; pids+=($master)
+  --rate "$rate" --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num" 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for 10 "$wire"
 for ((c = 0; c < num; c++)); do
   # shellcheck disable=SC2046

@@ -60,10 +60,14 @@ class GpiodEdgeSource final : public EdgeSource {
 // master goes away, reconnects (at most every 200 ms) so a restarted master is picked up.
 class WireEdgeSource final : public EdgeSource {
  public:
-  WireEdgeSource(const std::string& path, const NodeClock& clock) : path_(path), clock_(clock) {
-    HULLPOSE_THROW_UNLESS(connect_wire(), "trigger input wire:" << path_ << ": cannot connect to the trigger master's wire ("
-                                                                 << std::strerror(errno) << "); is hullpose-trigger-master --line wire:"
-                                                                 << path_ << " running?");
+  // Waits up to connect_timeout_ms for the master's wire to appear (processes of a simulated rig
+  // start in any order).
+  WireEdgeSource(const std::string& path, const NodeClock& clock, int connect_timeout_ms) : path_(path), clock_(clock) {
+    const int64_t until = monotonic_us() + int64_t{connect_timeout_ms} * 1000;
+    while (!connect_wire() && monotonic_us() < until) ::usleep(50'000);
+    HULLPOSE_THROW_UNLESS(fd_ >= 0, "trigger input wire:" << path_ << ": cannot connect to the trigger master's wire ("
+                                                          << std::strerror(errno) << "); is hullpose-trigger-master --line wire:"
+                                                          << path_ << " running?");
   }
   ~WireEdgeSource() override {
     if (fd_ >= 0) ::close(fd_);
@@ -122,8 +126,8 @@ class WireEdgeSource final : public EdgeSource {
 
 }  // namespace
 
-std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock) {
-  if (spec.rfind("wire:", 0) == 0) return std::make_unique<WireEdgeSource>(spec.substr(5), clock);
+std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock, int connect_timeout_ms) {
+  if (spec.rfind("wire:", 0) == 0) return std::make_unique<WireEdgeSource>(spec.substr(5), clock, connect_timeout_ms);
   if (spec.rfind("gpiod:", 0) == 0) {
     const auto colon = spec.rfind(':');
     HULLPOSE_THROW_UNLESS(colon > 6, "trigger input '" << spec << "': expected gpiod:CHIP:OFFSET");

@@ -24,7 +24,8 @@ SequenceMapper::SequenceMapper(const MapperConfig& config) : config_(config) {
 }
 
 void SequenceMapper::on_announcement(const Announcement& a) {
-  if (a.period_us <= 0 || a.seq < 0 || a.epoch == 0) {
+  // 0.1 Hz .. 1 kHz, as the trigger master allows: anything else is not a trigger announcement.
+  if (a.period_us < 1'000 || a.period_us > 10'000'000 || a.seq < 0 || a.epoch == 0) {
     counters_.add("bad_announcement");
     return;
   }

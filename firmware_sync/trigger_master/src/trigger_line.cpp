@@ -1,5 +1,6 @@
 #include "hullpose/firmware_sync/trigger_line.hpp"
 
+#include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -12,6 +13,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
+#include "hullpose/common/time.hpp"
 
 namespace hullpose::sync {
 HULLPOSE_LOG_CATEGORY(Line, "trigger_line")
@@ -87,6 +89,17 @@ class WireTriggerLine final : public TriggerLine {
     }
   }
   std::string describe() const override { return "wire:" + path_; }
+  size_t wait_for_nodes(size_t nodes, int timeout_ms) override {
+    const int64_t until = monotonic_us() + int64_t{timeout_ms} * 1000;
+    accept_new();
+    while (clients_.size() < nodes) {
+      const int64_t left_ms = (until - monotonic_us()) / 1000;
+      if (left_ms <= 0) break;
+      pollfd p{listen_fd_, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(std::min<int64_t>(left_ms, 1000))) > 0) accept_new();
+    }
+    return clients_.size();
+  }
 
  private:
   static constexpr size_t kMaxClients = 256;

@@ -96,11 +96,29 @@ void FrameAssembler::on_trigger(const hullpose_msg::trigger_t& t, int64_t now_us
     counters_.add("foreign_rig_trigger");
     return;
   }
-  if (t.seq < 0 || t.utime <= 0) {
+  if (t.seq < 0 || t.utime <= 0 || t.period_us <= 0 || t.epoch == 0) {
     counters_.add("bad_trigger");
     return;
   }
-  if (t.period_us > 0) {
+  if (t.epoch != epoch_) {
+    if (t.epoch == retired_epoch_) {  // a late announcement of the master's previous run
+      counters_.add("stale_epoch_trigger");
+      return;
+    }
+    if (epoch_ != 0) {
+      // The master restarted: its sequence counts from 0 again. The open frames belong to the
+      // old run: close them now, so that their sequences cannot make the new ones look late.
+      HULLPOSE_LOG(Assembly, Info) << "trigger epoch " << epoch_ << " -> " << t.epoch << ": master restarted";
+      counters_.add("epoch_change");
+      flush();
+      high_seq_ = -1;
+      triggers_.fill({});
+      newest_trigger_ = -1;
+    }
+    retired_epoch_ = epoch_;
+    epoch_ = t.epoch;
+  }
+  {
     triggers_[static_cast<size_t>(t.seq) % kTriggerRing] = {t.seq, t.utime, t.period_us};
     if (t.seq > newest_trigger_ || now_us - newest_trigger_at_us_ > 1'000'000) newest_trigger_ = t.seq;
     newest_trigger_at_us_ = now_us;

@@ -19,12 +19,13 @@ struct Options {
   std::string ready_file;  // written once subscribed (for scripts that start publishers next)
   double duration_s = 0;  // 0: until a signal
   ServiceConfig service;
+  PipelineOptions pipeline;
 };
 
 Options parse(int argc, char** argv) {
   static const char* usage =
       " --rig FILE [--lcm-url URL] [--min-cameras N] [--deadline-ms MS] [--deadline-from first|trigger]"
-      " [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE]";
+      " [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] [--resolution N] [--tolerance K]";
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -40,6 +41,8 @@ Options parse(int argc, char** argv) {
       else if (a == "--max-open") o.service.assembler.max_open = static_cast<size_t>(std::stoul(value()));
       else if (a == "--duration-s") o.duration_s = std::stod(value());
       else if (a == "--ready-file") o.ready_file = value();
+      else if (a == "--resolution") o.pipeline.resolution = std::stoi(value());
+      else if (a == "--tolerance") o.pipeline.tolerance = std::stoi(value());
       else if (a == "--max-clock-skew-ms") o.service.assembler.max_clock_skew_us = static_cast<int64_t>(std::stod(value()) * 1000);
       else if (a == "--deadline-from") {
         const std::string v = value();
@@ -56,14 +59,14 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int service_main(int argc, char** argv, const char* tool,
-                 const std::function<std::unique_ptr<FramePipeline>(const Rig&)>& make_pipeline) {
+                 const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline) {
   try {
     if (const char* spec = std::getenv("HULLPOSE_LOG")) log::set_levels(spec);
     const Options o = parse(argc, argv);
     const Rig rig = load_rig(o.rig_file);
     lcm::LCM bus(o.lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
-    auto pipeline = make_pipeline(rig);
+    auto pipeline = make_pipeline(rig, o.pipeline);
     FusionService service(bus, rig, *pipeline, o.service);
     if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
     std::signal(SIGINT, on_signal);

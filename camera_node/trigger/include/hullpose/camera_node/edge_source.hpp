@@ -28,8 +28,9 @@ class EdgeSource {
   virtual std::string describe() const = 0;
 };
 
-// Throws hullpose::Error naming the spec and the device when it cannot be opened.
-std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock);
+// Throws hullpose::Error naming the spec and the device when it cannot be opened (a wire: is
+// waited for up to connect_timeout_ms).
+std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock, int connect_timeout_ms = 0);
 
 class SimEdgeSource final : public EdgeSource {
  public:

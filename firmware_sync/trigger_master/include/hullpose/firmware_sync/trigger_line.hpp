@@ -18,6 +18,12 @@ class TriggerLine {
   virtual ~TriggerLine() = default;
   virtual void set(bool high) = 0;
   virtual std::string describe() const = 0;
+  // The simulated wire only: waits until `nodes` camera nodes are connected, so that a rig
+  // started on one machine loses no pulse. A physical line has no listeners to count.
+  virtual size_t wait_for_nodes(size_t nodes, int timeout_ms) {
+    (void)timeout_ms;
+    return nodes;
+  }
 };
 
 // Throws hullpose::Error naming the spec and the device when the line cannot be opened.

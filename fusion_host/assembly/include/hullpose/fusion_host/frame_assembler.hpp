@@ -79,13 +79,14 @@ class FrameAssembler {
   void on_trigger(const hullpose_msg::trigger_t& msg, int64_t now_us);
   // Closes every frame that is ready at now_us, oldest first.
   void poll(int64_t now_us);
-  // Closes every open frame (shutdown).
+  // Closes every open frame (shutdown, master restart).
   void flush();
 
   int min_cameras() const { return min_cameras_; }
   size_t open_frames() const;
   // Drops: foreign_rig, unknown_camera, malformed_lcm, bad_encoding, wrong_size, bad_fields,
-  // decode_error, implausible_time, inconsistent_utime, duplicate, late, capacity, seq_restart. Frames: fused_complete,
+  // decode_error, implausible_time, inconsistent_utime, duplicate, late, capacity, seq_restart,
+  // epoch_change (TRIGGER), stale_epoch_trigger, bad_trigger, foreign_rig_trigger. Frames: fused_complete,
   // fused_partial, too_few_cameras, no_views.
   const Counters& counters() const { return counters_; }
 
@@ -118,6 +119,7 @@ class FrameAssembler {
   std::array<LastTrigger, kTriggerRing> triggers_{};
   int64_t newest_trigger_ = -1;
   int64_t newest_trigger_at_us_ = 0;
+  int64_t epoch_ = 0, retired_epoch_ = 0;  // of the TRIGGER stream
   static constexpr int64_t kRestartGapUs = 500'000;
 
   const Rig& rig_;

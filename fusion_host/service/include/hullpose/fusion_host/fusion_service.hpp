@@ -73,12 +73,18 @@ class FusionService {
   int64_t interval_start_us_ = 0;
 };
 
+// Options of the pipeline on a fusion host's command line.
+struct PipelineOptions {
+  int resolution = 64;  // --resolution N: voxels along the capture volume's longest axis
+  int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
+};
+
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
-// --duration-s S, --ready-file FILE): builds the
-// pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
+// --duration-s S, --ready-file FILE, and the PipelineOptions): builds the pipeline with
+// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
 // Returns the process exit code; errors print "<tool>: error: ..." and return 2.
 int service_main(int argc, char** argv, const char* tool,
-                 const std::function<std::unique_ptr<FramePipeline>(const Rig&)>& make_pipeline);
+                 const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline);
 
 }  // namespace hullpose::fusion
