@@ -9,8 +9,10 @@
 #                camera nodes can replay them)
 #   camera nodes hullpose-camera-node with a trigger input (RGB replay + real background
 #                subtraction) | stand-in node: real trigger stage, replays the rendered masks
-#   fusion host  hullpose-fusion-host --live | hullpose-fusion-live (carve -> clean-up -> thin;
-#                pose stage pending) | fusion service with the sequence-check pipeline
+#   fusion host  hullpose-fusion-host (carve -> clean-up -> thin -> pose tree -> fit) | fusion
+#                service with the sequence-check pipeline
+# With a rendered dataset the same frames also go through `hullpose-fusion-host --replay`, and the
+# live accuracy is compared with the offline one.
 set -euo pipefail
 build=$(cd "${1:-build}" && pwd)
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -24,7 +26,6 @@ start=$SECONDS
 synth=$(bin tools/synth/hullpose-synth)
 node=$(bin camera_node/app/hullpose-camera-node)
 host=$(bin fusion_host/app/hullpose-fusion-host)
-live=$(bin fusion_host/service/hullpose-fusion-live)
 eval_tool=$(bin tools/eval/hullpose-eval)
 stand_in="$build/tests/rig/rig_stand_in_camera_node"
 real_nodes=0; has_opt "$node" trigger && real_nodes=1
@@ -63,11 +64,9 @@ else
   node_cmd="$stand_in $node_args"
 fi
 
-if has_opt "$host" --live; then
-  host_cmd="$host --live --rig {rig}"; say "fusion host: hullpose-fusion-host --live"
-elif [[ -n $live && -n $data ]]; then
-  host_cmd="$live --rig {rig} --min-cameras 6"
-  say "fusion host: hullpose-fusion-live (carve -> clean-up -> thin; the pose stage has not landed: no joints yet)"
+if [[ -n $host && -n $data ]]; then
+  host_cmd="$host --rig {rig} --min-cameras 6"
+  say "fusion host: hullpose-fusion-host (carve -> clean-up -> thin -> pose tree -> fit)"
 else
   host_cmd="$build/tests/rig/rig_stub_fusion_host --rig {rig} --min-cameras 5"
   say "fusion host: the fusion service with the sequence-check stand-in pipeline"
@@ -84,9 +83,17 @@ print(f"hullpose demo: {s['skeletons']} skeletons, {s['valid']} valid, {s['missi
       file=sys.stderr)
 PY
 if [[ -n $eval_tool && -n $data ]] && grep -q ',1,' <(cut -d, -f1-3 "$work/estimates.csv"); then
-  "$eval_tool" --gt "$data" --est "$work/estimates.csv" --report "$work/report.html"
-  say "HTML report: $work/report.html"
+  say "accuracy of the live rig against the ground truth (hullpose-eval):"
+  "$eval_tool" --gt "$data" --est "$work/estimates.csv" --report "$work/report"
+  say "HTML report: $work/report/report.html"
+  if [[ -n $host ]]; then
+    say "the same frames offline (hullpose-fusion-host --replay), for comparison:"
+    "$host" --replay "$data" --out "$work/replay.csv" > /dev/null
+    "$eval_tool" --gt "$data" --est "$work/replay.csv" --json > "$work/replay_eval.json"
+    "$eval_tool" --gt "$data" --est "$work/estimates.csv" --json > "$work/live_eval.json"
+    /usr/bin/python3 "$root/tools/demo/compare_eval.py" "$work/live_eval.json" "$work/replay_eval.json" || true
+  fi
 else
-  say "accuracy: not reported (needs valid skeletons from the pose stage, ground truth and hullpose-eval)"
+  say "accuracy: not reported (needs valid skeletons, the rendered ground truth and hullpose-eval)"
 fi
 say "done in $(( SECONDS - start )) s; skeletons in $work/skeletons.csv, logs in $work"

@@ -3,6 +3,7 @@
 #include <hullpose_msg/skeleton_t.hpp>
 
 #include "hullpose/common/time.hpp"
+#include "hullpose/pose/pose_estimator.hpp"
 
 namespace hullpose::fusion {
 
@@ -17,18 +18,48 @@ void HullPipeline::process(const AssembledFrame& frame, PoseEstimate& out) {
   const FusionResult& r = core_.process(masks_, rois_);
   last_ = &r;
   out.fused_utime = realtime_utime();
-  if (!r.valid) {
-    out.valid = false;
-    out.reason = r.failure == FusionFailure::kTooFewViews ? hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS
-                                                          : hullpose_msg::skeleton_t::REASON_EMPTY_HULL;
-    return;
-  }
   if (!pose_) {
     out.valid = false;
-    out.reason = hullpose_msg::skeleton_t::REASON_FIT_FAILED;
-    return;
+    out.reason = r.valid ? hullpose_msg::skeleton_t::REASON_FIT_FAILED : hullpose_msg::skeleton_t::REASON_EMPTY_HULL;
+  } else {
+    // As the offline replay does: the pose stage sees every frame (an empty skeleton when the
+    // hull failed), so its temporal state and the reused pose match the replay's.
+    pose_->estimate(r.valid ? std::span<const Eigen::Vector3i>(r.skeleton_voxels) : std::span<const Eigen::Vector3i>(),
+                    r.grid, out);
   }
-  pose_->estimate(r.skeleton_voxels, r.grid, out);
+  if (!r.valid && r.failure == FusionFailure::kTooFewViews) {
+    out.valid = false;
+    out.reason = hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
+  }
+}
+
+namespace {
+
+class PoseEstimatorStage final : public PoseStage {
+ public:
+  void estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid, PoseEstimate& out) override {
+    const pose::PoseEstimate& p = estimator_.estimate(skeleton, grid);
+    out.valid = p.valid;
+    out.reason = p.reason;
+    if (!p.has_pose) return;  // nothing to show yet: zeros, confidence 0
+    for (size_t j = 0; j < p.joints_mm.size(); ++j) {
+      out.position_mm[j] = {static_cast<float>(p.joints_mm[j].x()), static_cast<float>(p.joints_mm[j].y()),
+                            static_cast<float>(p.joints_mm[j].z())};
+      out.confidence[j] = p.confidence[j];
+    }
+  }
+
+ private:
+  pose::PoseEstimator estimator_;
+};
+
+}  // namespace
+
+std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const PipelineOptions& options) {
+  FusionOptions f;
+  f.resolution = options.resolution;
+  f.tolerance = options.tolerance;
+  return std::make_unique<HullPipeline>(rig, f, std::make_unique<PoseEstimatorStage>(), nullptr);
 }
 
 }  // namespace hullpose::fusion

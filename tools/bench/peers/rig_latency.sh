@@ -9,15 +9,15 @@ frames=${HULLPOSE_RIG_BENCH_FRAMES:-300}
 work=$(mktemp -d /tmp/hullpose-rigbench.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 node="$build/tests/rig/rig_stand_in_camera_node --rig {rig} --camera-id {cam} --edges wire:{wire} --lcm-url {url} --duration-s $(( frames / 30 + 60 ))"
-if [[ -x $build/tools/synth/hullpose-synth && -x $build/fusion_host/service/hullpose-fusion-live ]]; then
-  # Real silhouettes (hullpose-synth, the thesis' 8-camera 800x600 rig) through the real carve ->
-  # clean-up -> thin. Until camera_node/app takes a trigger input, the nodes are the stand-in
-  # (real trigger stage, replaying the rendered masks); the pose stage has not landed yet.
+if [[ -x $build/tools/synth/hullpose-synth && -x $build/fusion_host/app/hullpose-fusion-host ]]; then
+  # Real silhouettes (hullpose-synth, the thesis' 8-camera 800x600 rig) through the real fusion
+  # host (carve -> clean-up -> thin -> tree -> fit). Until camera_node/app takes a trigger input,
+  # the nodes are the stand-in (real trigger stage, replaying the rendered masks).
   "$build/tools/synth/hullpose-synth" --motion walk --frames "$frames" --fps 30 --out "$work/data" --seed 1 > /dev/null
   cp "$work/data/rig.yaml" "$work/rig.yaml"
   node="$node --masks $work/data"
-  host="$build/fusion_host/service/hullpose-fusion-live --rig {rig} --min-cameras 6"
-  nodes="stand-in, replaying hullpose-synth masks (800x600)" pipeline="carve+clean-up+thin at 64 voxels (pose stage pending)"
+  host="$build/fusion_host/app/hullpose-fusion-host --rig {rig} --min-cameras 6"
+  nodes="stand-in, replaying hullpose-synth masks (800x600)" pipeline="hullpose-fusion-host: carve, clean-up, thin, tree, fit at 128 voxels"
 else
   "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 8 320 240 rigA
   host="$build/tests/rig/rig_stub_fusion_host --rig {rig} --min-cameras 5"

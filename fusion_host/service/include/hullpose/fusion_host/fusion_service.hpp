@@ -75,7 +75,7 @@ class FusionService {
 
 // Options of the pipeline on a fusion host's command line.
 struct PipelineOptions {
-  int resolution = 64;  // --resolution N: voxels along the capture volume's longest axis
+  int resolution = 128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
   int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
 };
 

@@ -1,7 +1,8 @@
 #pragma once
 // The fusion host's real pipeline behind the FramePipeline seam: the assembled views -> carve ->
-// clean-up -> thin (FusionCore, fusion_host/core) -> pose tree + model fit (a PoseStage: the
-// pose stage of fusion_host/pose plugs in here).
+// clean-up -> thin (FusionCore, fusion_host/core) -> pose tree + model fit (a PoseStage; the
+// pose stage of fusion_host/pose by default). Frame for frame it does what the offline replay
+// (fusion_host/replay) does, so live and replayed estimates agree.
 #include <Eigen/Core>
 #include <memory>
 #include <span>
@@ -11,6 +12,7 @@
 #include "hullpose/common/voxel_grid.hpp"
 #include "hullpose/fusion/fusion_core.hpp"
 #include "hullpose/fusion_host/frame_pipeline.hpp"
+#include "hullpose/fusion_host/fusion_service.hpp"
 
 namespace hullpose::fusion {
 
@@ -24,7 +26,7 @@ class PoseStage {
 class HullPipeline final : public FramePipeline {
  public:
   // pose == nullptr: hull and curve skeleton only; every frame that carves is published with
-  // REASON_FIT_FAILED (no pose stage built), with its real latencies.
+  // REASON_FIT_FAILED and its real latencies (for measuring the fusion stages alone).
   HullPipeline(const Rig& rig, const FusionOptions& options, std::unique_ptr<PoseStage> pose, Counters* counters);
   void process(const AssembledFrame& frame, PoseEstimate& out) override;
   const FusionResult& last_fusion() const { return *last_; }
@@ -37,5 +39,8 @@ class HullPipeline final : public FramePipeline {
   std::vector<PixelRoi> rois_;
   const FusionResult* last_ = nullptr;
 };
+
+// The fusion host's live pipeline: HullPipeline with the pose stage of fusion_host/pose.
+std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const PipelineOptions& options);
 
 }  // namespace hullpose::fusion
