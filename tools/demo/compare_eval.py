@@ -12,6 +12,6 @@ for key in ("mpjpe_mm", "hands_feet_mpjpe_mm", "pck100_pct", "valid_pct"):
         continue
     rel = abs(a - b) / max(abs(b), 1e-9)
     ok &= rel <= 0.01
-    print(f"hullpose demo: {key:22s} live {a:8.2f}   replay {b:8.2f}   ({rel:.2%} apart)", file=sys.stderr)
-print(f"hullpose demo: live vs offline replay: {'within' if ok else 'NOT within'} 1 %", file=sys.stderr)
+    print(f"  {key:22s} live {a:8.2f}   replay {b:8.2f}   ({rel:.2%} apart)", file=sys.stderr)
+print(f"  live vs offline replay: {'within' if ok else 'NOT within'} 1 %", file=sys.stderr)
 sys.exit(0 if ok else 1)
