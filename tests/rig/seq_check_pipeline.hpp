@@ -1,5 +1,5 @@
 #pragma once
-// A stand-in for carve -> thin -> tree -> fit in the service and system tests: it checks that
+// In place of carve -> thin -> tree -> fit in the service and fault tests: it checks that
 // every view of the frame carries the frame's own sequence (seq_pattern.hpp) and reports it in
 // the pose (valid + joint 0 = (seq, views, 0) when consistent; REASON_FIT_FAILED and joint 0 x
 // = -1 when views of different sequences were mixed).

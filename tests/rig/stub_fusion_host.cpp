@@ -1,5 +1,5 @@
-// The fusion service with the sequence-checking stand-in pipeline (seq_check_pipeline.hpp), for
-// the system tests of the rig's plumbing until the real pipeline is wired in.
+// The fusion service with the sequence-checking pipeline (seq_check_pipeline.hpp): the fault
+// tests use it to prove that no fused frame mixes views of different trigger sequences.
 #include "hullpose/fusion_host/fusion_service.hpp"
 #include "seq_check_pipeline.hpp"
 

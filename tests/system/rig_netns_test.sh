@@ -8,9 +8,10 @@
 # with its reason), no frame mixes sequences, the faults degrade frames as expected only.
 #
 # usage: rig_netns_test.sh BUILD_DIR [FRAMES=300] [RATE=30] [NUM=8]
-# Until camera_node/app and the real pipeline land, the nodes are tests/rig/stand_in_camera_node
-# (real trigger stage, masks that carry their sequence) and the host runs the sequence-checking
-# pipeline (tests/rig/seq_check_pipeline.hpp).
+# The nodes are tests/rig/stand_in_camera_node (real trigger stage; masks that carry their own
+# sequence number) and the host runs the sequence-checking pipeline (tests/rig/
+# seq_check_pipeline.hpp), which proves that no fused frame mixes views of different triggers;
+# rig_netns_accuracy_test.sh runs the real fusion host on rendered data.
 set -euo pipefail
 build=$(cd "$1" && pwd)
 frames=${2:-300} rate=${3:-30} num=${4:-8}
