@@ -28,9 +28,13 @@ struct TempDir {
   ~TempDir() { fs::remove_all(path); }
 };
 
+// Small images keep the sanitizer run of these tests quick.
+constexpr const char* kRig = "ring:cameras=5,width=400,rows=300";
+
 SynthConfig small(const fs::path& out) {
   SynthConfig c;
   c.motion = "walk";
+  c.rig = kRig;
   c.out = out;
   c.frames = 3;
   c.seed = 7;
@@ -53,11 +57,11 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
   cfg.backgrounds = 2;
   const SynthSummary s = write_dataset(cfg);
   CHECK(s.frames == 3);
-  CHECK(s.cameras == 8);
+  CHECK(s.cameras == 6);
 
   const DatasetPaths paths(dir.path);
   const Rig rig = load_rig(paths.rig());
-  CHECK(rig == make_ring_rig({}));
+  CHECK(rig == rig_from_name_or_file(kRig));
   CHECK_FALSE(fs::exists(dir.path / "rig_true.yaml"));
   const DatasetMeta meta = read_meta(paths.meta());
   CHECK(meta.motion == "walk");
@@ -66,7 +70,7 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
   CHECK(meta.seed == 7);
   CHECK(meta.stature_mm == 1750);
   CHECK(meta.noise.empty());
-  CHECK(meta.camera_ids == std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7});
+  CHECK(meta.camera_ids == std::vector<int>{0, 1, 2, 3, 4, 5});
 
   // Ground truth = the motion at the frame times, placed at the capture volume's centre.
   MotionOptions mo;
@@ -76,6 +80,7 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
   REQUIRE(gt.size() == 3);
   BodyShape body;
   std::vector<Primitive> prims;
+  std::vector<ViewRenderer> views(rig.cameras.begin(), rig.cameras.end());
   for (int f = 0; f < 3; ++f) {
     JointPositions q;
     motion->sample(f / 30.0, q);
@@ -86,11 +91,10 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
       INFO("camera " << cam.id << " frame " << f);
       const cv::Mat mask = cv::imread(paths.mask(cam.id, f).string(), cv::IMREAD_UNCHANGED);
       REQUIRE(mask.type() == CV_8UC1);
-      ViewRenderer view(cam);
       cv::Mat expected;
-      view.render_mask(prims, expected);
+      views[static_cast<size_t>(cam.id)].render_mask(prims, expected);
       CHECK(cv::countNonZero(mask != expected) == 0);
-      CHECK(cv::countNonZero(mask) > 1000);
+      CHECK(cv::countNonZero(mask) > 250);
       // The ground-truth pelvis projects into the silhouette.
       const auto px = cam.project(q[index(Joint::LBack)]);
       REQUIRE(px);
@@ -119,7 +123,7 @@ TEST_CASE("faults: dropped frames, a dark camera, calibration error, silhouette 
   CHECK(read_meta(pa.meta()).noise == cfg.faults.describe());
   CHECK(FaultSpec::parse(cfg.faults.describe()).describe() == cfg.faults.describe());
   int present = 0, differ = 0;
-  for (int cam = 0; cam < 8; ++cam)
+  for (int cam = 0; cam < 6; ++cam)
     for (int f = 0; f < 3; ++f) {
       const bool dropped = frame_dropped(cfg.faults, 7, cam, f);
       CHECK(fs::exists(pa.mask(cam, f)) == !dropped);
@@ -129,13 +133,13 @@ TEST_CASE("faults: dropped frames, a dark camera, calibration error, silhouette 
       if (fs::exists(pc.mask(cam, f))) differ += file_bytes(pa.mask(cam, f)) != file_bytes(pc.mask(cam, f));
       if (cam == 2 && f >= 1) CHECK(cv::countNonZero(cv::imread(pa.mask(cam, f).string(), cv::IMREAD_GRAYSCALE)) == 0);
     }
-  CHECK(present > 8);
-  CHECK(present < 24);
+  CHECK(present > 6);
+  CHECK(present < 18);
   CHECK(differ > 0);
 
   // The written rig is perturbed; the true rig rendered the masks.
   const Rig truth = load_rig(a.path / "rig_true.yaml"), told = load_rig(pa.rig());
-  CHECK(truth == make_ring_rig({}));
+  CHECK(truth == rig_from_name_or_file(kRig));
   for (size_t i = 0; i < truth.cameras.size(); ++i) {
     const auto &t = truth.cameras[i], &w = told.cameras[i];
     CHECK((t.centre() - w.centre()).norm() < 1e-6);  // only orientation and principal point err

@@ -8,7 +8,7 @@ using namespace hullpose;
 using namespace hullpose::synth;
 
 TEST_CASE("the live camera renderer: colour frame, exact mask, background, shadows") {
-  const Rig rig = make_ring_rig({});
+  const Rig rig = rig_from_name_or_file("ring:cameras=3,width=400,rows=300");
   const auto motion = make_builtin_motion("wave", {});
   BodyShape body;
   const Scene scene(SceneOptions{}, 5);
@@ -41,7 +41,7 @@ TEST_CASE("the live camera renderer: colour frame, exact mask, background, shado
   CHECK(rest < 15);
   // The shadow darkens some floor near the person, and only there.
   cv::Mat darker = (diff > 12) & outside;
-  CHECK(cv::countNonZero(darker) > 200);
+  CHECK(cv::countNonZero(darker) > 50);
   CHECK(cv::countNonZero(darker) < 0.1 * outside.total());
 
   // Frames are reproducible and buffers reused.

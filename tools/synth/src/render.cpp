@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/calib3d.hpp>
 
 namespace hullpose::synth {
 
@@ -42,14 +43,21 @@ bool sphere_extent(const Eigen::Vector3d& c, double r, double& x0, double& x1, d
 
 ViewRenderer::ViewRenderer(const CameraModel& camera) : camera_(camera) {
   rays_.create(camera.height, camera.width, CV_32FC2);
-  const bool distorted = camera.has_distortion();
   for (int v = 0; v < camera.height; ++v) {
     auto* row = rays_.ptr<cv::Vec2f>(v);
-    for (int u = 0; u < camera.width; ++u) {
-      const Eigen::Vector2d xn = distorted ? camera.undistort_pixel({u, v})
-                                           : Eigen::Vector2d((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy);
-      row[u] = cv::Vec2f(static_cast<float>(xn.x()), static_cast<float>(xn.y()));
-    }
+    for (int u = 0; u < camera.width; ++u)
+      row[u] = cv::Vec2f(static_cast<float>((u - camera.cx) / camera.fx), static_cast<float>((v - camera.cy) / camera.fy));
+  }
+  if (camera.has_distortion()) {
+    // OpenCV's iterative undistortion, run to convergence (the default stops after 5 steps).
+    std::vector<cv::Point2f> pixels;
+    pixels.reserve(rays_.total());
+    for (int v = 0; v < camera.height; ++v)
+      for (int u = 0; u < camera.width; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+    const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+    const cv::Matx<double, 1, 5> dist(camera.dist[0], camera.dist[1], camera.dist[2], camera.dist[3], camera.dist[4]);
+    cv::undistortPoints(pixels, rays_.reshape(2, static_cast<int>(rays_.total())), K, dist, cv::noArray(), cv::noArray(),
+                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
   }
 }
 
