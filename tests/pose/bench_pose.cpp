@@ -22,7 +22,7 @@ std::vector<Eigen::Vector3i> walking_skeleton(const VoxelGridSpec& g) {
   walk.r_thigh = {0, -0.3, -1};
   walk.r_shin = {0, -0.6, -1};
   auto voxels = rasterise(g, stick_figure(1750, walk, {35, 0, 0, 0}));
-  add_spurs(g, voxels, 20, 5, 11);
+  add_spurs(g, voxels, 20, g.dims.maxCoeff() >= 128 ? 5 : 3, 11);  // spurs up to ~80 mm
   return voxels;
 }
 

@@ -193,3 +193,16 @@ TEST_CASE("temporal correspondence keeps left and right when the geometry cannot
   const LabelledTree& second = builder.build(voxels, g, hint);
   check_labels(second, truth);
 }
+
+TEST_CASE("a long spur between the legs does not push out the head") {
+  // The visual hull's ghost volume between the legs thins to a branch longer than the head's.
+  const VoxelGridSpec g = grid_2m(128);
+  PoseTreeBuilder builder;
+  const JointPositions truth = stick_figure(kStature, t_pose(), {75, 0, 0, 0});
+  auto voxels = rasterise(g, truth);
+  const Eigen::Vector3d pelvis = truth[index(Joint::LBack)];
+  rasterise_segment(g, pelvis, pelvis - Eigen::Vector3d(0, 0, 350), voxels);
+  dedupe(voxels);
+  REQUIRE(350 > (truth[index(Joint::HeadTop)] - truth[index(Joint::Chest)]).norm());
+  check_labels(build(builder, voxels, g), truth);
+}

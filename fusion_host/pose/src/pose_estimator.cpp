@@ -75,6 +75,10 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     reuse(Msg::REASON_INVALID_TREE, tree.why);
     return out_;
   }
+  if (!has_accepted_ && tree.quality < params_.acquire_quality) {
+    reuse(Msg::REASON_INVALID_TREE, "labelling ranks below the quality needed to acquire a first pose");
+    return out_;
+  }
 
   timer.restart();
   const double frame_stature = fitter_.frame_stature(tree);

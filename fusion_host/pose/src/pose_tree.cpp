@@ -21,6 +21,7 @@
 #include "hullpose/pose/pose_tree.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -234,6 +235,21 @@ void PoseTreeBuilder::collect_branches() {
   }
 }
 
+void PoseTreeBuilder::remove_branch(int32_t end, int32_t junction) {
+  int32_t prev = -1, cur = end;
+  while (cur != junction && cur >= 0) {
+    int32_t next = -1;
+    for (int32_t k = adj_begin_[cur]; k < adj_begin_[cur + 1]; ++k)
+      if (alive_[adj_[k]] && adj_[k] != prev) {
+        next = adj_[k];
+        break;
+      }
+    alive_[cur] = 0;
+    prev = cur;
+    cur = next;
+  }
+}
+
 bool PoseTreeBuilder::prune(double longest) {
   alive_.assign(tree_.position.size(), 1);
   const double threshold = params_.prune_ratio * longest;
@@ -242,26 +258,15 @@ bool PoseTreeBuilder::prune(double longest) {
     if (junctions_.empty()) break;  // a bare path: nothing left to prune
     const auto shortest = std::min_element(branches_.begin(), branches_.end(),
                                            [](const Branch& a, const Branch& b) { return a.length < b.length; });
-    if (shortest->length >= threshold && branches_.size() <= kNumExtremities) break;
-    // Remove endpoint .. junction (exclusive).
-    int32_t prev = -1, cur = shortest->end;
-    while (cur != shortest->junction) {
-      int32_t next = -1;
-      for (int32_t k = adj_begin_[cur]; k < adj_begin_[cur + 1]; ++k)
-        if (alive_[adj_[k]] && adj_[k] != prev) {
-          next = adj_[k];
-          break;
-        }
-      alive_[cur] = 0;
-      prev = cur;
-      cur = next;
-    }
+    if (shortest->length >= threshold && branches_.size() <= kMaxEnds) break;
+    remove_branch(shortest->end, shortest->junction);
   }
-  if (branches_.size() != kNumExtremities) return false;
+  if (branches_.size() < kNumExtremities || junctions_.empty()) return false;
   ends_.clear();
   for (size_t k = 0; k < branches_.size(); ++k) {
     ends_.push_back(branches_[k].end);
     end_branch_[k] = branches_[k].length;
+    end_junction_[k] = branches_[k].junction;
   }
   return true;
 }
@@ -297,9 +302,16 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
       f = closeness(ideal_leg, dr) * closeness(ideal_torso, offset);
     r.factor[s] = f;
   }
-  int degree = degree_[candidate];
+  // Endpoints left out of this labelling are spurs: their branches do not count in the degree.
+  auto dropped_at = [&](int32_t junction) {
+    int n = 0;
+    for (size_t k = 0; k < ends_.size(); ++k)
+      if (end_junction_[k] == junction && std::find(ends.begin(), ends.end(), ends_[k]) == ends.end()) ++n;
+    return n;
+  };
+  int degree = degree_[candidate] - dropped_at(candidate);
   for (int32_t j : junctions_)
-    if (j != candidate && dist_[j] <= merge_mm) degree += degree_[j] - 2;
+    if (j != candidate && dist_[j] <= merge_mm) degree += degree_[j] - 2 - dropped_at(j);
   const double degree_factor = std::exp(-(degree - 4.0) * (degree - 4.0) / 3.0);
   r.rank = degree_factor;
   for (double f : r.factor) r.rank *= f;
@@ -308,16 +320,24 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
 }
 
 PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
+  // Every origin candidate, and every choice of five endpoints when pruning left more (a long
+  // spur, e.g. the ghost volume between the legs, can outlast the head's short branch).
   Ranked best;
+  const uint32_t count = static_cast<uint32_t>(ends_.size());
   for (int32_t c : junctions_) {
     distances_from(c, true);
-    std::array<int32_t, kNumExtremities> order;
-    std::copy(ends_.begin(), ends_.end(), order.begin());
-    // Nearest last: feet are the two farthest, then the hands, the head nearest (algorithm 3).
-    std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
-    const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
-    const Ranked r = rank_candidate(c, ends, longest);
-    if (r.rank > best.rank) best = r;
+    for (uint32_t subset = 0; subset < (1u << count); ++subset) {
+      if (std::popcount(subset) != kNumExtremities) continue;
+      std::array<int32_t, kNumExtremities> order;
+      int n = 0;
+      for (uint32_t k = 0; k < count; ++k)
+        if (subset & (1u << k)) order[n++] = ends_[k];
+      // Nearest last: feet are the two farthest, then the hands, the head nearest (algorithm 3).
+      std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
+      const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
+      const Ranked r = rank_candidate(c, ends, longest);
+      if (r.rank > best.rank) best = r;
+    }
   }
   return best;
 }
@@ -334,8 +354,12 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<in
 }
 
 std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const TemporalHint& hint) const {
-  // All 120 assignments of endpoints to the previous extremities; least summed displacement.
-  std::array<int32_t, kNumExtremities> perm = {0, 1, 2, 3, 4}, best = perm;
+  // Every assignment of endpoints to the previous extremities (the first five of each
+  // permutation); least summed displacement.
+  const int count = static_cast<int>(ends_.size());
+  std::array<int32_t, kMaxEnds> perm{}, best{};
+  std::iota(perm.begin(), perm.begin() + count, 0);
+  best = perm;
   double best_cost = kInf;
   do {
     double cost = 0;
@@ -345,7 +369,7 @@ std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const 
       best_cost = cost;
       best = perm;
     }
-  } while (std::next_permutation(perm.begin(), perm.end()));
+  } while (std::next_permutation(perm.begin(), perm.begin() + count));
   std::array<int32_t, kNumExtremities> out;
   for (int s = 0; s < kNumExtremities; ++s) out[s] = ends_[best[s]];
   return out;
@@ -566,6 +590,9 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
     return tree_;
   }
   tree_.origin = best.origin;
+  for (size_t k = 0; k < ends_.size(); ++k)
+    if (std::find(best.ends.begin(), best.ends.end(), ends_[k]) == best.ends.end())
+      remove_branch(ends_[k], end_junction_[k]);
 
   // Paths to the origin; the pelvis is where the two foot paths meet.
   distances_from(best.origin, true);

@@ -23,6 +23,9 @@ struct PoseParams {
   // exceeds this is a jump. A jump is accepted when the next frame agrees with it (the motion
   // was real), and the check is skipped after `jump_memory_frames` frames without a fresh pose.
   double jump_mean_mm = 150;
+  // Until the first fresh pose there is no previous pose to catch a wrong labelling: the tree's
+  // quality must reach this stricter level (TreeParams::min_quality holds afterwards).
+  double acquire_quality = 0.6;
   int jump_memory_frames = 5;
   // Stature: running median over the valid frames; a frame whose own estimate is off the
   // median by more than `stature_tolerance` (once `stature_settle_frames` frames are in) or
