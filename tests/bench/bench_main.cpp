@@ -34,7 +34,8 @@ class JsonLinesReporter : public benchmark::BenchmarkReporter {
       }
       const double ms = run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
       std::string line = "{\"name\": \"" + json_escape(run.run_name.str()) + "\", \"median_ms\": " + fmt(ms) +
-                         ", \"iterations\": " + std::to_string(run.iterations);
+                         (median ? ", \"repetitions\": " + std::to_string(run.repetitions)
+                                 : ", \"iterations\": " + std::to_string(run.iterations));
       for (const auto& [key, counter] : run.counters) line += ", \"" + json_escape(key) + "\": " + fmt(counter.value);
       if (run.report_label.rfind("peer=", 0) == 0)
         line += ", \"peer\": \"" + json_escape(run.report_label.substr(5)) + "\"";

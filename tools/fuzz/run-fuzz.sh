@@ -10,6 +10,7 @@ while read -r exe; do
   name=$(basename "$exe")
   corpus="$build/fuzz/corpus/$name"
   mkdir -p "$corpus"
+  "$exe"_seeds "$corpus"
   echo "fuzz: $name for ${seconds}s" >&2
   "$exe" -max_total_time="$seconds" -seed=1 -artifact_prefix="$build/fuzz/$name-" "$corpus" || status=1
 done < "$build/fuzz/targets.txt"

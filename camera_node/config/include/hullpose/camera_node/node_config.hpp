@@ -1,0 +1,75 @@
+#pragma once
+// The configuration of one camera node, read from a YAML file (cv::FileStorage) and
+// validated at start: every error names the file and the field.
+//
+//   camera_id: 3
+//   rig_file: rig.yaml              # relative paths are relative to this file's folder
+//   source:                         # a frame-source backend (camera_node/source) and its parameters
+//     type: libcamera               # libcamera | v4l2 | file | synthetic
+//     exposure_us: 4000
+//   bgs:
+//     method: sobs                  # horprasert | codebook | sobs | mog2 | knn
+//     learn_frames: 30              # empty-scene frames the background is learnt from
+//     background: bg/rgb_%06d.png   # optional: learn from these files instead of the first frames
+//     params: { epsilon_online: 0.008 }
+//   post:
+//     open_radius: 1                # morphological opening, then closing (pixels; 0 = off)
+//     close_radius: 1
+//     min_blob_area: 32             # connected components smaller than this are removed
+//     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
+//   lcm:
+//     url: udpm://239.255.76.67:7667?ttl=1
+//     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
+//     status_period_ms: 1000
+#include <filesystem>
+#include <opencv2/core/types.hpp>
+#include <string>
+
+#include "hullpose/camera_node/params.hpp"
+
+namespace hullpose::camera_node {
+
+struct SourceConfig {
+  std::string type;
+  Params params;  // every key of `source:` except `type`
+};
+
+struct BgsConfig {
+  std::string method;
+  int learn_frames = 30;
+  std::string background;  // optional image pattern (printf %d) or video, resolved to an absolute path
+  Params params;
+};
+
+struct PostConfig {
+  int open_radius = 1;
+  int close_radius = 1;
+  int min_blob_area = 32;
+  cv::Rect roi;  // empty: the whole image
+};
+
+struct LcmConfig {
+  std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  std::string silhouette_channel = "SILHOUETTE";
+  std::string status_channel = "STATUS";
+  int queue_depth = 4;
+  int status_period_ms = 1000;
+};
+
+struct NodeConfig {
+  std::filesystem::path file;      // where it was read from (for messages)
+  std::filesystem::path base_dir;  // relative paths in the file are relative to this
+  int camera_id = -1;
+  std::filesystem::path rig_file;  // absolute
+  SourceConfig source;
+  BgsConfig bgs;
+  PostConfig post;
+  LcmConfig lcm;
+};
+
+// Reads and checks the file's structure and scalar ranges; throws hullpose::Error naming the file
+// and the field. Stage parameters are checked when the stages are built (CameraNode's constructor),
+// so that the whole configuration is validated before any device is opened.
+NodeConfig load_node_config(const std::filesystem::path& file);
+
+}  // namespace hullpose::camera_node

@@ -1,0 +1,47 @@
+#pragma once
+// Replays an image sequence (a printf pattern such as cam3/rgb_%06d.png, read from first_index
+// until a file is missing) or a video file (OpenCV videoio). Frame f gets capture_utime =
+// start_utime + f * 1e6 / fps.
+//
+// Parameters: path (required), fps (30), start_utime (0: the time start() was called; quote it in
+// YAML, cv::FileStorage integers are 32-bit),
+// first_index (0), loop (false), preload (false: read every frame into memory at start(), so that
+// grab() neither allocates nor touches the disk — for benchmarks and tests; without it each frame
+// is decoded from disk, which allocates).
+#include <opencv2/videoio.hpp>
+
+#include "hullpose/camera_node/frame_source.hpp"
+
+namespace hullpose::camera_node {
+
+class FileSource final : public FrameSource {
+ public:
+  FileSource(const Params& params, const SourceContext& context);
+  void start() override;
+  GrabStatus grab(Frame& frame, int timeout_ms) override;
+  void stop() override;
+  std::string describe() const override;
+
+ private:
+  bool read_next(cv::Mat& out);
+  std::string path_;
+  bool pattern_ = false;
+  std::string prefix_, suffix_;  // an image sequence's path around the index ...
+  int width_ = 0;                // ... and the index's zero-padded width
+  double fps_ = 30;
+  int64_t start_utime_ = 0;
+  int first_index_ = 0;
+  bool loop_ = false;
+  bool preload_ = false;
+  cv::Size size_;
+  int camera_id_ = 0;
+
+  cv::VideoCapture video_;
+  std::vector<cv::Mat> frames_;  // preloaded
+  int next_index_ = 0;
+  int64_t delivered_ = 0;
+  int64_t t0_ = 0;
+  cv::Mat image_;
+};
+
+}  // namespace hullpose::camera_node

@@ -1,0 +1,129 @@
+#include "hullpose/camera_node/file_source.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hullpose/common/check.hpp"
+#include "hullpose/common/time.hpp"
+
+namespace hullpose::camera_node {
+namespace {
+
+// The pattern's one "%d" or "%0Nd" replaced by the index. Done by hand rather than with printf:
+// the pattern comes from a config file and must not be a format string.
+struct IndexPattern {
+  std::string prefix, suffix;
+  int width = 0;
+
+  static bool parse(const std::string& path, IndexPattern& out) {
+    const size_t pos = path.find('%');
+    if (pos == std::string::npos) return false;
+    size_t i = pos + 1;
+    int width = 0;
+    while (i < path.size() && std::isdigit(static_cast<unsigned char>(path[i]))) width = width * 10 + (path[i++] - '0');
+    HULLPOSE_THROW_UNLESS(i < path.size() && path[i] == 'd' && width <= 12 && path.find('%', i) == std::string::npos,
+                          "file source: path '" << path << "' must contain exactly one %d or %0Nd");
+    out = IndexPattern{path.substr(0, pos), path.substr(i + 1), width};
+    return true;
+  }
+  std::string at(int index) const {
+    std::string digits = std::to_string(index);
+    if (static_cast<int>(digits.size()) < width) digits.insert(0, static_cast<size_t>(width) - digits.size(), '0');
+    return prefix + digits + suffix;
+  }
+};
+
+}  // namespace
+
+FileSource::FileSource(const Params& params, const SourceContext& context)
+    : size_(context.camera.width, context.camera.height), camera_id_(context.camera_id) {
+  const std::filesystem::path p(params.require_string("path"));
+  path_ = (p.is_absolute() ? p : context.base_dir / p).string();
+  IndexPattern pattern;
+  pattern_ = IndexPattern::parse(path_, pattern);
+  prefix_ = pattern.prefix;
+  suffix_ = pattern.suffix;
+  width_ = pattern.width;
+  fps_ = params.get_double("fps", 30.0, 0.001, 100000.0);
+  start_utime_ = static_cast<int64_t>(params.get_double("start_utime", 0.0, 0.0, 9.2e18));
+  first_index_ = params.get_int("first_index", 0, 0, 1 << 30);
+  loop_ = params.get_bool("loop", false);
+  preload_ = params.get_bool("preload", false);
+}
+
+std::string FileSource::describe() const {
+  return "file " + path_ + (pattern_ ? " (image sequence)" : " (video)") + (loop_ ? ", looping" : "");
+}
+
+bool FileSource::read_next(cv::Mat& out) {
+  if (pattern_) {
+    const std::string name = IndexPattern{prefix_, suffix_, width_}.at(first_index_ + next_index_);
+    if (!std::filesystem::exists(name)) return false;
+    out = cv::imread(name, cv::IMREAD_COLOR);
+    HULLPOSE_THROW_UNLESS(!out.empty(), "camera " << camera_id_ << ": file source: cannot decode image " << name);
+  } else {
+    if (!video_.read(out)) return false;
+  }
+  HULLPOSE_THROW_UNLESS(out.size() == size_, "camera " << camera_id_ << ": file source " << path_ << ": frame "
+                                                        << next_index_ << " is " << out.cols << "x" << out.rows
+                                                        << ", the rig camera is " << size_.width << "x"
+                                                        << size_.height);
+  ++next_index_;
+  return true;
+}
+
+void FileSource::start() {
+  next_index_ = 0;
+  delivered_ = 0;
+  t0_ = start_utime_ > 0 ? start_utime_ : realtime_utime();
+  if (pattern_) {
+    const std::string first = IndexPattern{prefix_, suffix_, width_}.at(first_index_);
+    HULLPOSE_THROW_UNLESS(std::filesystem::exists(first), "camera " << camera_id_ << ": file source: first image "
+                                                                    << first << " not found (pattern " << path_
+                                                                    << ", first_index " << first_index_ << ")");
+  } else {
+    HULLPOSE_THROW_UNLESS(std::filesystem::exists(path_), "camera " << camera_id_ << ": file source: " << path_
+                                                                    << " not found");
+    HULLPOSE_THROW_UNLESS(video_.open(path_), "camera " << camera_id_ << ": file source: OpenCV cannot open video "
+                                                        << path_);
+  }
+  if (preload_) {
+    frames_.clear();
+    cv::Mat m;
+    while (read_next(m)) frames_.push_back(m.clone());
+    next_index_ = 0;
+  }
+}
+
+GrabStatus FileSource::grab(Frame& frame, int /*timeout_ms*/) {
+  bool ok = false;
+  if (preload_) {
+    if (frames_.empty()) return GrabStatus::kEndOfStream;
+    if (next_index_ >= static_cast<int>(frames_.size()) && loop_) next_index_ = 0;
+    if (next_index_ < static_cast<int>(frames_.size())) {
+      frame.image = frames_[static_cast<size_t>(next_index_++)];
+      ok = true;
+    }
+  } else {
+    ok = read_next(image_);
+    if (!ok && loop_ && delivered_ > 0) {
+      next_index_ = 0;
+      if (!pattern_) video_.set(cv::CAP_PROP_POS_FRAMES, 0);
+      ok = read_next(image_);
+    }
+    frame.image = image_;
+  }
+  if (!ok) return GrabStatus::kEndOfStream;
+  frame.sequence = delivered_;
+  frame.capture_utime = t0_ + static_cast<int64_t>(std::llround(static_cast<double>(delivered_) * 1e6 / fps_));
+  ++delivered_;
+  return GrabStatus::kFrame;
+}
+
+void FileSource::stop() {
+  video_.release();
+  frames_.clear();
+}
+
+}  // namespace hullpose::camera_node

@@ -1,0 +1,195 @@
+#include "hullpose/common/dataset.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/core.hpp>
+
+#include "hullpose/common/check.hpp"
+
+namespace hullpose {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string frame_name(const char* prefix, int index) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%s_%06d.png", prefix, index);
+  return buf;
+}
+
+std::string joint_columns() {
+  std::string header;
+  for (const auto& n : kJointNames)
+    for (const char* axis : {"_x", "_y", "_z"}) header += "," + std::string(n) + axis;
+  return header;
+}
+
+// Splits one CSV line into fields (no quoting: our files hold numbers only).
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> fields;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = line.find(',', start);
+    fields.push_back(line.substr(start, comma - start));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+template <typename T>
+T parse_number(std::string_view text, const fs::path& path, int line_no, const char* column) {
+  while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.remove_suffix(1);
+  T value{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  HULLPOSE_THROW_UNLESS(ec == std::errc() && end == text.data() + text.size(),
+                        path.string() << ":" << line_no << ": column " << column << ": '" << text
+                                      << "' is not a number");
+  if constexpr (std::is_floating_point_v<T>)
+    HULLPOSE_THROW_UNLESS(std::isfinite(value), path.string() << ":" << line_no << ": column "
+                                                              << column << " is not finite");
+  return value;
+}
+
+// Shared by ground truth (frame,utime,...) and estimates (frame,valid,reason,...).
+std::vector<PoseRecord> read_pose_csv(const fs::path& path, const std::string& lead_header,
+                                      bool estimates) {
+  std::ifstream in(path);
+  HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+  std::string line;
+  HULLPOSE_THROW_UNLESS(std::getline(in, line), path.string() << ": empty file");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const std::string header = lead_header + joint_columns();
+  HULLPOSE_THROW_UNLESS(line == header, path.string() << ":1: header must be '" << lead_header
+                                                      << ",HeadTop_x,...,RToe_z'");
+  const size_t lead = split(lead_header).size();
+  std::vector<PoseRecord> records;
+  int line_no = 1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line == "\r") continue;
+    const auto f = split(line);
+    HULLPOSE_THROW_UNLESS(f.size() == lead + 3 * kNumJoints,
+                          path.string() << ":" << line_no << ": expected " << lead + 3 * kNumJoints
+                                        << " fields, got " << f.size());
+    PoseRecord r;
+    r.frame = parse_number<int>(f[0], path, line_no, "frame");
+    if (estimates) {
+      const int valid = parse_number<int>(f[1], path, line_no, "valid");
+      HULLPOSE_THROW_UNLESS(valid == 0 || valid == 1,
+                            path.string() << ":" << line_no << ": valid must be 0 or 1");
+      r.valid = valid == 1;
+      r.reason = parse_number<int>(f[2], path, line_no, "reason");
+    } else {
+      r.utime = parse_number<int64_t>(f[1], path, line_no, "utime");
+    }
+    for (int j = 0; j < kNumJoints; ++j)
+      for (int a = 0; a < 3; ++a)
+        r.joints[static_cast<size_t>(j)][a] =
+            parse_number<double>(f[lead + static_cast<size_t>(3 * j + a)], path, line_no,
+                                 kJointNames[static_cast<size_t>(j)].data());
+    HULLPOSE_THROW_UNLESS(records.empty() || r.frame > records.back().frame,
+                          path.string() << ":" << line_no << ": frame " << r.frame
+                                        << " is not after frame " << records.back().frame);
+    records.push_back(r);
+  }
+  return records;
+}
+
+void write_joints(std::ostream& out, const JointPositions& joints) {
+  char buf[32];
+  for (const auto& p : joints)
+    for (int a = 0; a < 3; ++a) {
+      std::snprintf(buf, sizeof buf, ",%.3f", p[a]);
+      out << buf;
+    }
+  out << '\n';
+}
+
+}  // namespace
+
+fs::path DatasetPaths::camera_dir(int camera_id) const {
+  return root_ / ("cam" + std::to_string(camera_id));
+}
+fs::path DatasetPaths::mask(int camera_id, int frame) const {
+  return camera_dir(camera_id) / frame_name("mask", frame);
+}
+fs::path DatasetPaths::rgb(int camera_id, int frame) const {
+  return camera_dir(camera_id) / frame_name("rgb", frame);
+}
+fs::path DatasetPaths::background(int camera_id, int index) const {
+  return camera_dir(camera_id) / frame_name("background", index);
+}
+
+void write_meta(const fs::path& path, const DatasetMeta& m) {
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_JSON);
+  HULLPOSE_THROW_UNLESS(fs.isOpened(), path.string() << ": cannot write");
+  fs << "format" << DatasetMeta::kFormat << "motion" << m.motion << "frames" << m.frames << "fps"
+     << m.fps << "seed" << std::to_string(m.seed) << "start_utime" << std::to_string(m.start_utime)
+     << "stature_mm" << m.stature_mm << "noise" << m.noise;
+  fs << "camera_ids" << "[";
+  for (int id : m.camera_ids) fs << id;
+  fs << "]";
+}
+
+DatasetMeta read_meta(const fs::path& path) {
+  HULLPOSE_THROW_UNLESS(fs::exists(path), path.string() << ": not found");
+  cv::FileStorage fs;
+  try {
+    fs.open(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  } catch (const cv::Exception& e) {
+    HULLPOSE_THROW(path.string() << ": not valid JSON: " << e.err);
+  }
+  HULLPOSE_THROW_UNLESS(fs.isOpened(), path.string() << ": cannot open");
+  auto need = [&](const char* key) {
+    cv::FileNode n = fs[key];
+    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(), path.string() << ": missing field '" << key << "'");
+    return n;
+  };
+  HULLPOSE_THROW_UNLESS(static_cast<int>(need("format")) == DatasetMeta::kFormat,
+                        path.string() << ": unknown dataset format");
+  DatasetMeta m;
+  m.motion = static_cast<std::string>(need("motion"));
+  m.frames = static_cast<int>(need("frames"));
+  m.fps = static_cast<double>(need("fps"));
+  m.seed = std::stoull(static_cast<std::string>(need("seed")));
+  m.start_utime = std::stoll(static_cast<std::string>(need("start_utime")));
+  m.stature_mm = static_cast<double>(need("stature_mm"));
+  m.noise = static_cast<std::string>(need("noise"));
+  for (const auto& id : need("camera_ids")) m.camera_ids.push_back(static_cast<int>(id));
+  HULLPOSE_THROW_UNLESS(m.frames >= 0 && m.fps > 0, path.string() << ": frames/fps out of range");
+  return m;
+}
+
+void write_ground_truth(const fs::path& path, const std::vector<PoseRecord>& frames) {
+  std::ofstream out(path);
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
+  out << "frame,utime" << joint_columns() << '\n';
+  for (const auto& r : frames) {
+    out << r.frame << ',' << r.utime;
+    write_joints(out, r.joints);
+  }
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
+}
+
+std::vector<PoseRecord> read_ground_truth(const fs::path& path) {
+  return read_pose_csv(path, "frame,utime", false);
+}
+
+EstimateWriter::EstimateWriter(const fs::path& path) : path_(path), out_(path) {
+  HULLPOSE_THROW_UNLESS(out_, path.string() << ": cannot write");
+  out_ << "frame,valid,reason" << joint_columns() << '\n';
+}
+
+void EstimateWriter::write(const PoseRecord& r) {
+  out_ << r.frame << ',' << (r.valid ? 1 : 0) << ',' << r.reason;
+  write_joints(out_, r.joints);
+  HULLPOSE_THROW_UNLESS(out_, path_.string() << ": write failed");
+}
+
+std::vector<PoseRecord> read_estimates(const fs::path& path) {
+  return read_pose_csv(path, "frame,valid,reason", true);
+}
+
+}  // namespace hullpose

@@ -1,0 +1,100 @@
+// CameraNode in-process (LCM memq://, nothing leaves the process): lifecycle, ROI, stamps,
+// counters and configuration errors. Messages over real UDP are in test_camera_node_lcm.cpp.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "hullpose/camera_node/camera_node.hpp"
+#include "hullpose/common/check.hpp"
+#include "mask_score.hpp"
+#include "test_dataset.hpp"
+
+using namespace hullpose;
+using namespace hullpose::camera_node;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path& dataset() {
+  static const fs::path dir = [] {
+    const fs::path d = fs::temp_directory_path() / "hullpose_test_camera_node";
+    test::write_dataset(d, test::small_synth({320, 240}, 6, 20, 2), 1);
+    return d;
+  }();
+  return dir;
+}
+
+std::string error_of(const std::string& extra_or_method, bool is_method = false) {
+  try {
+    CameraNode node(load_node_config(test::write_node_config(
+        dataset(), 1, is_method ? extra_or_method : "horprasert", "memq://", is_method ? "" : extra_or_method)));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("the node turns replayed frames into silhouettes close to the ground truth") {
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "codebook", "memq://")));
+  node.start();
+  Frame frame;
+  test::Score score;
+  for (int f = 0; f < 6; ++f) {
+    REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
+    CHECK(frame.sequence == f);
+    const cv::Mat& mask = node.process(frame, TriggerStamp{100 + f, frame.capture_utime});
+    score.add(mask, cv::imread(test::indexed(dataset() / "cam1", "mask", f), cv::IMREAD_GRAYSCALE));
+  }
+  CHECK(node.capture(frame, 100) == GrabStatus::kEndOfStream);
+  CHECK(node.frames_processed() == 6);
+  INFO("precision " << score.precision() << " recall " << score.recall());
+  CHECK(score.f1() > 0.9);
+  node.stop();
+  node.stop();
+}
+
+TEST_CASE("pixels outside the ROI are background") {
+  // An ROI that cuts the person of frame 1 in half.
+  const cv::Mat truth = cv::imread(test::indexed(dataset() / "cam1", "mask", 1), cv::IMREAD_GRAYSCALE);
+  const cv::Rect person = cv::boundingRect(truth);
+  REQUIRE(person.area() > 100);
+  const int cut = person.x + person.width / 2;
+  CameraNode node(load_node_config(test::write_node_config(
+      dataset(), 1, "horprasert", "memq://", "  roi: [0, 0, " + std::to_string(cut) + ", 240]\n")));
+  node.start();
+  Frame frame;
+  REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
+  REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
+  const cv::Mat& mask = node.process(frame, {});
+  CHECK(cv::countNonZero(mask(cv::Rect(0, 0, cut, 240))) > cv::countNonZero(truth(cv::Rect(0, 0, cut, 240))) / 2);
+  CHECK(cv::countNonZero(mask(cv::Rect(cut, 0, 320 - cut, 240))) == 0);
+}
+
+TEST_CASE("run() stamps frames through the trigger seam and counts frames without a trigger") {
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")));
+  node.start();
+  std::vector<int64_t> seen;
+  const std::atomic<bool> stop{false};
+  node.run(stop, [&](const Frame& f) -> std::optional<TriggerStamp> {
+    seen.push_back(f.sequence);
+    if (f.sequence == 2) return std::nullopt;
+    return TriggerStamp{f.sequence + 1000, f.capture_utime};
+  });
+  CHECK(seen == std::vector<int64_t>{0, 1, 2, 3, 4, 5});
+  CHECK(node.frames_processed() == 5);
+  CHECK(node.counters().get("no_trigger") == 1);
+}
+
+TEST_CASE("node configuration errors name the file and the field") {
+  CHECK_THAT(error_of("vibe", true), Catch::Contains("camera.yaml: bgs.method: unknown method 'vibe'"));
+  CHECK_THAT(error_of("  roi: [300, 0, 100, 100]\n"), Catch::Contains("camera.yaml: post.roi") &&
+                                                        Catch::Contains("outside the 320x240 image of camera 1"));
+  // camera 5 is not in the rig
+  const fs::path cfg = test::write_node_config(dataset(), 5, "sobs", "memq://");
+  CHECK_THROWS_WITH(CameraNode(load_node_config(cfg)), Catch::Contains("camera_id: camera 5 is not in the rig file"));
+  const fs::path bad_url = test::write_node_config(dataset(), 1, "sobs", "nosuch://x");
+  CHECK_THROWS_WITH(CameraNode(load_node_config(bad_url)), Catch::Contains("lcm.url: cannot open LCM at 'nosuch://x'"));
+}

@@ -1,0 +1,167 @@
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hullpose/camera_node/frame_source.hpp"
+#include "hullpose/camera_node/synthetic_source.hpp"
+#include "hullpose/common/check.hpp"
+#include "hullpose/synth/rig_gen.hpp"
+#include "test_dataset.hpp"
+
+using namespace hullpose;
+using namespace hullpose::camera_node;
+namespace fs = std::filesystem;
+
+namespace {
+
+SourceContext context(int w, int h, const fs::path& base = {}) {
+  SourceContext c;
+  c.camera_id = 2;
+  c.camera.id = 2;
+  c.camera.width = w;
+  c.camera.height = h;
+  c.base_dir = base;
+  return c;
+}
+
+fs::path sequence_dir() {
+  const fs::path dir = fs::temp_directory_path() / "hullpose_test_sources";
+  static const bool written = [&] {
+    test::write_dataset(dir, test::small_synth({64, 48}, 3, 1, 1), 2);
+    return true;
+  }();
+  (void)written;
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("the registry knows the built-in backends and names unknown ones") {
+  const auto names = SourceRegistry::builtin().names();
+  CHECK(std::find(names.begin(), names.end(), "libcamera") != names.end());
+  CHECK(std::find(names.begin(), names.end(), "v4l2") != names.end());
+  CHECK(std::find(names.begin(), names.end(), "file") != names.end());
+  CHECK_THROWS_WITH(SourceRegistry::builtin().create("gige", Params("cam.yaml: source"), context(64, 48)),
+                    Catch::Contains("cam.yaml: source.type: unknown source 'gige' (known: libcamera, v4l2, file"));
+  Params typo("cam.yaml: source");
+  typo.set("path", "x_%d.png");
+  typo.set("fsp", "30");
+  CHECK_THROWS_WITH(SourceRegistry::builtin().create("file", typo, context(64, 48)),
+                    Catch::Contains("cam.yaml: source: unknown parameter(s): fsp"));
+}
+
+TEST_CASE("file source replays an image sequence with counters and timestamps") {
+  const fs::path dir = sequence_dir();
+  Params p("source");
+  p.set("path", "cam2/rgb_%06d.png");
+  p.set("fps", "20");
+  p.set("start_utime", "1000000");
+  auto src = SourceRegistry::builtin().create("file", p, context(64, 48, dir));
+  src->start();
+  Frame f;
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+    CHECK(f.sequence == i);
+    CHECK(f.capture_utime == 1000000 + i * 50000);
+    const cv::Mat expected = cv::imread(test::indexed(dir / "cam2", "rgb", i));
+    CHECK(cv::norm(f.image, expected, cv::NORM_INF) == 0);
+  }
+  CHECK(src->grab(f, 0) == GrabStatus::kEndOfStream);
+  src->stop();
+
+  p.set("loop", "true");
+  p.set("preload", "true");
+  auto looping = SourceRegistry::builtin().create("file", p, context(64, 48, dir));
+  looping->start();
+  for (int i = 0; i < 7; ++i) REQUIRE(looping->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(f.sequence == 6);
+  CHECK(cv::norm(f.image, cv::imread(test::indexed(dir / "cam2", "rgb", 0)), cv::NORM_INF) == 0);
+}
+
+TEST_CASE("file source errors name the camera and the file") {
+  const fs::path dir = sequence_dir();
+  Params missing("source");
+  missing.set("path", "cam2/none_%06d.png");
+  auto src = SourceRegistry::builtin().create("file", missing, context(64, 48, dir));
+  CHECK_THROWS_WITH(src->start(), Catch::Contains("camera 2: file source: first image") &&
+                                      Catch::Contains("none_000000.png not found"));
+
+  Params wrong_size("source");
+  wrong_size.set("path", "cam2/rgb_%06d.png");
+  auto big = SourceRegistry::builtin().create("file", wrong_size, context(640, 480, dir));
+  big->start();
+  Frame f;
+  CHECK_THROWS_WITH(big->grab(f, 0), Catch::Contains("is 64x48, the rig camera is 640x480"));
+
+  Params hostile("source");
+  hostile.set("path", "cam2/%s%n.png");
+  CHECK_THROWS_WITH(SourceRegistry::builtin().create("file", hostile, context(64, 48, dir)),
+                    Catch::Contains("must contain exactly one %d or %0Nd"));
+}
+
+TEST_CASE("a missing V4L2 device gives an error naming the device and what was tried") {
+  Params p("source");
+  p.set("device", "/dev/video-hullpose-absent");
+  auto src = SourceRegistry::builtin().create("v4l2", p, context(640, 480));
+  CHECK_THROWS_WITH(src->start(), Catch::Contains("camera 2: v4l2 device /dev/video-hullpose-absent: cannot open") &&
+                                      Catch::Contains("tried open(2)"));
+  src->stop();  // harmless after a failed start
+  Params bad("source");
+  bad.set("pixel_format", "H264");
+  CHECK_THROWS_WITH(SourceRegistry::builtin().create("v4l2", bad, context(640, 480)),
+                    Catch::Contains("source.pixel_format: unsupported pixel format 'H264'"));
+}
+
+TEST_CASE("a missing libcamera camera gives an error naming the camera and what was listed") {
+  Params p("source");
+  p.set("camera", "/base/soc/i2c0mux/i2c@1/imx296@1a");
+  p.set("exposure_us", "3000");
+  auto src = SourceRegistry::builtin().create("libcamera", p, context(640, 480));
+  CHECK_THROWS_WITH(src->start(), Catch::Contains("camera 2: libcamera") &&
+                                      Catch::Contains("/base/soc/i2c0mux/i2c@1/imx296@1a") &&
+                                      Catch::Contains("CameraManager listed"));
+  Params bad("source");
+  bad.set("exposure_us", "50000");
+  bad.set("frame_duration_us", "33333");
+  CHECK_THROWS_WITH(SourceRegistry::builtin().create("libcamera", bad, context(640, 480)),
+                    Catch::Contains("source.exposure_us: 50000 exceeds frame_duration_us 33333"));
+}
+
+TEST_CASE("the synthetic source renders this camera's view of the synthetic rig") {
+  synth::RingRigSpec spec;
+  spec.width = 160;
+  spec.height = 120;
+  const Rig rig = synth::make_ring_rig(spec);
+  SourceContext c;
+  c.camera_id = 3;
+  c.camera = *rig.find(3);
+  c.volume = rig.volume;
+  Params p("source");
+  p.set("motion", "walk");
+  p.set("empty_frames", "2");
+  p.set("frames", "3");
+  p.set("fps", "25");
+  p.set("start_utime", "5000000");
+  auto src = SourceRegistry::builtin().create("synthetic", p, c);
+  auto* synthetic = dynamic_cast<SyntheticSource*>(src.get());
+  REQUIRE(synthetic);
+  src->start();
+  Frame f;
+  for (int i = 0; i < 5; ++i) {
+    REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+    CHECK(f.sequence == i);
+    CHECK(f.capture_utime == 5000000 + i * 40000);
+    CHECK(f.image.size() == cv::Size(160, 120));
+    CHECK(f.image.type() == CV_8UC3);
+    if (i < 2)
+      CHECK(cv::countNonZero(synthetic->truth()) == 0);  // the empty room, to learn from
+    else
+      CHECK(cv::countNonZero(synthetic->truth()) > 50);
+  }
+  CHECK(src->grab(f, 0) == GrabStatus::kEndOfStream);
+
+  Params bad("cam.yaml: source");
+  bad.set("motion", "moonwalk");
+  auto unknown = SourceRegistry::builtin().create("synthetic", bad, c);
+  CHECK_THROWS_WITH(unknown->start(), Catch::Contains("moonwalk"));
+}
