@@ -55,9 +55,19 @@ struct Carver::Precomputed {
   std::vector<uint16_t> pixels;
   std::vector<uint8_t> wide;  // [node * cameras + camera]: rectangle wider than 255 px, no table
   int size(int level) const { return finest << level; }
+  // Nodes are stored top cell by top cell, each cell's subtree in Morton order, so that the
+  // depth-first visit of a cell reads contiguous memory at every level.
+  size_t node_count(int level) const {
+    return static_cast<size_t>(nodes[kLevels - 1].prod()) << (3 * (kLevels - 1 - level));
+  }
   size_t node_index(int level, int x, int y, int z) const {
-    const Eigen::Vector3i& n = nodes[static_cast<size_t>(level)];
-    return (static_cast<size_t>(z) * n.y() + y) * n.x() + x;
+    const int up = kLevels - 1 - level;
+    const Eigen::Vector3i& top = nodes[kLevels - 1];
+    const size_t cell = (static_cast<size_t>(z >> up) * top.y() + (y >> up)) * top.x() + (x >> up);
+    size_t morton = 0;
+    for (int b = 0; b < up; ++b)
+      morton |= static_cast<size_t>((x >> b & 1) | (y >> b & 1) << 1 | (z >> b & 1) << 2) << (3 * b);
+    return cell << (3 * up) | morton;
   }
 };
 
@@ -93,9 +103,9 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
   for (int l = 0; l < kLevels; ++l) {
     const int s = p.size(l);
     p.nodes[static_cast<size_t>(l)] = (grid_.dims.array() + s - 1) / s;
-    const Eigen::Vector3i& n = p.nodes[static_cast<size_t>(l)];
-    p.rects[static_cast<size_t>(l)].assign(static_cast<size_t>(n.prod()) * static_cast<size_t>(ncam), Rect{});
   }
+  for (int l = 0; l < kLevels; ++l)
+    p.rects[static_cast<size_t>(l)].assign(p.node_count(l) * static_cast<size_t>(ncam), Rect{});
   // Finest level from every voxel centre, with the projector the reference uses.
   const Eigen::Vector3i d = grid_.dims;
   std::vector<Rect>& fine = p.rects[0];
@@ -139,7 +149,6 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
           }
   }
   for (int l = 1; l < kLevels; ++l) {
-    const Eigen::Vector3i& n = p.nodes[static_cast<size_t>(l)];
     const Eigen::Vector3i& m = p.nodes[static_cast<size_t>(l - 1)];
     for (int z = 0; z < m.z(); ++z)
       for (int y = 0; y < m.y(); ++y)
@@ -149,7 +158,6 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
                                             static_cast<size_t>(c)]
                 .add(p.rects[static_cast<size_t>(l - 1)][p.node_index(l - 1, x, y, z) * static_cast<size_t>(ncam) +
                                                          static_cast<size_t>(c)]);
-    (void)n;
   }
 
   Frame& f = *frame_;

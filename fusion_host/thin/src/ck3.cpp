@@ -67,10 +67,6 @@ uint32_t plane_members(uint32_t cells, int axis) {
   return code;
 }
 
-// Below this many border voxels an iteration runs on one thread: a barrier costs more than the
-// work, and on a loaded machine a descheduled partner stalls every barrier.
-constexpr size_t kMinParallelBorder = 4096;
-
 }  // namespace
 
 ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint) {
@@ -95,7 +91,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
     const size_t n = border.size();
     s.codes.resize(n);
     stats.visited += n;
-    const bool parallel = threads > 1 && n >= kMinParallelBorder;
+    const bool parallel = threads > 1 && n >= static_cast<size_t>(std::max(0, options_.min_parallel_border));
 
 #pragma omp parallel num_threads(threads) if (parallel)
     {

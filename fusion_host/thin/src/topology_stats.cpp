@@ -1,5 +1,6 @@
 #include "hullpose/thin/topology_stats.hpp"
 
+#include <algorithm>
 #include <bit>
 
 #include "hullpose/common/check.hpp"
@@ -145,7 +146,7 @@ int ComponentLabeller::label(const fusion::BitGrid& volume) {
   Runs& R = object_;
   R.runs.clear();
   R.row_start.clear();
-  R.lo = 0;
+  R.y0 = R.z0 = 0;
   R.rows_y = dims_.y();
   R.rows_z = dims_.z();
   for (int z = 0; z < dims_.z(); ++z)
@@ -190,15 +191,31 @@ void ComponentLabeller::extract(const std::vector<bool>& keep, fusion::BitGrid& 
 
 int ComponentLabeller::label_background(const fusion::BitGrid& volume) {
   const Eigen::Vector3i d = volume.dims();
+  // Only the rows between the object's first and last non-empty row, plus one empty row on
+  // each side, can hold a cavity; that frame of empty rows is all outside.
+  int y0 = d.y(), y1 = -1, z0 = d.z(), z1 = -1;
+  for (int z = 0; z < d.z(); ++z)
+    for (int y = 0; y < d.y(); ++y) {
+      const uint64_t* r = volume.row(y, z);
+      bool any = false;
+      for (int w = 0; w < volume.words_per_row() && !any; ++w) any = r[w] != 0;
+      if (!any) continue;
+      y0 = std::min(y0, y);
+      y1 = std::max(y1, y);
+      z0 = std::min(z0, z);
+      z1 = std::max(z1, z);
+    }
+  if (y1 < 0) y0 = y1 = z0 = z1 = 0;  // empty: one frame of background
   Runs& R = background_;
   R.runs.clear();
   R.row_start.clear();
-  R.lo = -1;
-  R.rows_y = d.y() + 2;
-  R.rows_z = d.z() + 2;
-  // Background runs of the grid grown by one voxel on every side; x in [-1, nx].
-  for (int z = -1; z <= d.z(); ++z)
-    for (int y = -1; y <= d.y(); ++y) {
+  R.y0 = y0 - 1;
+  R.z0 = z0 - 1;
+  R.rows_y = y1 - y0 + 3;
+  R.rows_z = z1 - z0 + 3;
+  // Background runs of those rows, x in [-1, nx].
+  for (int z = z0 - 1; z <= z1 + 1; ++z)
+    for (int y = y0 - 1; y <= y1 + 1; ++y) {
       R.row_start.push_back(static_cast<int>(R.runs.size()));
       if (y < 0 || z < 0 || y >= d.y() || z >= d.z()) {
         R.runs.push_back({-1, d.x()});
@@ -216,7 +233,7 @@ int ComponentLabeller::label_background(const fusion::BitGrid& volume) {
   bg_size_.assign(R.runs.size(), 0);
   for (size_t i = 0; i < R.runs.size(); ++i)
     bg_size_[static_cast<size_t>(R.find(static_cast<int>(i)))] += R.runs[i].x1 - R.runs[i].x0 + 1;
-  return R.find(0);  // the first run is in the padding: the outside
+  return R.find(0);  // the first run is in the empty frame: the outside
 }
 
 int ComponentLabeller::count_cavities(const fusion::BitGrid& volume) {
@@ -237,9 +254,9 @@ int ComponentLabeller::fill_cavities(fusion::BitGrid& volume, int64_t max_voxels
     filled += R.find(static_cast<int>(i)) == static_cast<int>(i) && static_cast<int>(i) != outside &&
               bg_size_[i] <= max_voxels;
   if (filled == 0) return 0;
-  for (int z = 0; z < d.z(); ++z)
-    for (int y = 0; y < d.y(); ++y) {
-      const int r = (z + 1) * R.rows_y + (y + 1);
+  for (int z = std::max(0, R.z0); z < std::min(d.z(), R.z0 + R.rows_z); ++z)
+    for (int y = std::max(0, R.y0); y < std::min(d.y(), R.y0 + R.rows_y); ++y) {
+      const int r = (z - R.z0) * R.rows_y + (y - R.y0);
       uint64_t* row = volume.row(y, z);
       for (int i = R.row_start[static_cast<size_t>(r)]; i < R.row_start[static_cast<size_t>(r) + 1]; ++i) {
         const int root = R.find(i);

@@ -41,6 +41,9 @@ struct ThinOptions {
   ZeroCliqueTest zero_clique = ZeroCliqueTest::kSpan3;
   int threads = 1;         // OpenMP threads for the passes of one iteration
   int max_iterations = 0;  // 0 = until stable; 1 = one step (tests)
+  // Iterations with fewer border voxels run on one thread: below this a barrier costs more than
+  // the work, and on a loaded machine a descheduled partner thread stalls every barrier.
+  int min_parallel_border = 4096;
 };
 
 struct ThinStats {

@@ -45,13 +45,13 @@ class ComponentLabeller {
   struct Run {
     int x0, x1;  // inclusive
   };
-  // Runs of one row set: rows indexed r = (z - lo) * rows_y + (y - lo); runs of row r are
+  // Runs of one row set: rows indexed r = (z - z0) * rows_y + (y - y0); runs of row r are
   // [row_start[r], row_start[r + 1]).
   struct Runs {
     std::vector<Run> runs;
     std::vector<int> row_start;
     std::vector<int> parent;
-    int lo = 0, rows_y = 0, rows_z = 0;
+    int y0 = 0, z0 = 0, rows_y = 0, rows_z = 0;
     int find(int a);
     void connect(bool adjacency26);
   };
