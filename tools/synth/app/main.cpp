@@ -35,6 +35,7 @@ constexpr const char* kUsage = R"(usage: hullpose-synth --motion <NAME|FILE.bvh>
   --build B         girth: slim, average, large or a factor (default average = 1)
   --clothing MM     loose clothing thickness on torso, arms and thighs (default 0)
   --bvh-mm-per-unit X   override BVH units (default: CMU units for schemes A/B, metres for C)
+  --png-level L     zlib level of the PNG files, 0..9 (default 1: fast)
   --threads N       worker threads (default: all cores)
 )";
 
@@ -118,6 +119,9 @@ int main(int argc, char** argv) {
         cfg.body.clothing_mm = to_number(a, value());
       } else if (a == "--bvh-mm-per-unit") {
         cfg.motion_options.bvh_mm_per_unit = to_number(a, value());
+      } else if (a == "--png-level") {
+        cfg.png_compression = static_cast<int>(to_number(a, value()));
+        HULLPOSE_THROW_UNLESS(cfg.png_compression >= 0 && cfg.png_compression <= 9, "--png-level must be 0..9");
       } else if (a == "--threads") {
         cv::setNumThreads(static_cast<int>(to_number(a, value())));
       } else {

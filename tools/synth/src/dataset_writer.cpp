@@ -88,7 +88,9 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
     HULLPOSE_THROW_UNLESS(!ec, paths.camera_dir(c.id).string() << ": cannot create: " << ec.message());
     jobs.push_back(std::make_unique<CameraJob>(c.id, c));
   }
-  const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression};
+  // Noisy colour frames gain little from LZ77 matching: Huffman-only is faster and smaller.
+  const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression, cv::IMWRITE_PNG_STRATEGY,
+                                cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
   const std::vector<int> png_mask = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression, cv::IMWRITE_PNG_STRATEGY,
                                      cv::IMWRITE_PNG_STRATEGY_RLE};
   const int n = static_cast<int>(jobs.size());
