@@ -54,7 +54,9 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
   try {
     subtractor_ = make_subtractor(config_.bgs.method, config_.bgs.params);
   } catch (const Error& e) {
-    HULLPOSE_THROW(file << ": " << e.what());
+    const std::string what = e.what();
+    if (what.rfind(file, 0) == 0) throw;  // parameter errors name the file already
+    HULLPOSE_THROW(file << ": " << what);
   }
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
