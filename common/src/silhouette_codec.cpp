@@ -189,7 +189,7 @@ CodecError decode_silhouette(std::span<const uint8_t> payload, const DecodeLimit
   if (const CodecError e = decode_silhouette_header(payload, limits, h); e != CodecError::kNone)
     return e;
   mask.create(h.height, h.width, CV_8UC1);
-  mask.setTo(0);
+  mask = cv::Scalar::all(0);  // unlike setTo(), allocates nothing (no InputArray temporary)
   const uint8_t* p = payload.data() + kHeaderSize;
   const uint8_t* const end = payload.data() + payload.size();
   const uint64_t w = static_cast<uint64_t>(h.roi.width);

@@ -95,6 +95,11 @@ TEST_CASE("bad BVH files give errors naming the line or joint") {
     const std::string e = error_of(two_joint_bvh("1 2 3 0 0 0 0 0 0\n"));
     CHECK_THAT(e, Contains("truncated motion") && Contains("2 frames") && Contains("holds 1"));
   }
+  SECTION("a lying frame count") {
+    std::string text = two_joint_bvh(kFrames);
+    text.replace(text.find("Frames: 2"), 9, "Frames: 9999999");
+    CHECK_THAT(error_of(text), Contains("truncated motion") && Contains("9999999 frames"));
+  }
   SECTION("garbage in the hierarchy") {
     std::string text = two_joint_bvh(kFrames);
     text.replace(text.find("OFFSET 10"), 9, "OFFSET xx");

@@ -176,4 +176,7 @@ TEST_CASE("a BVH clip longer than asked for, and bad requests") {
   cfg.motion = "walk";
   cfg.rig = "/nonexistent/rig.yaml";
   CHECK_THROWS_WITH(write_dataset(cfg), Contains("rig file not found"));
+  cfg.rig = "thesis8";
+  cfg.out = "/proc/hullpose-cannot-write-here";
+  CHECK_THROWS_WITH(write_dataset(cfg), Contains("cannot create the dataset directory"));
 }

@@ -56,6 +56,11 @@ TEST_CASE("a generated rig round-trips through the rig file; tilt and bad specs"
   CHECK(std::asin(-axis.z()) * 180 / M_PI == Approx(10).margin(1e-9));
   spec.radius_mm = 1000;
   CHECK_THROWS_AS(make_ring_rig(spec), hullpose::Error);
+  // The same ring from a command-line spec.
+  const Rig parsed = rig_from_name_or_file("ring:cameras=5,ceiling=0,tilt=10,k1=-0.05");
+  REQUIRE(parsed.cameras.size() == 5);
+  CHECK(parsed.cameras[3] == rig.cameras[3]);
+  CHECK_THROWS_WITH(rig_from_name_or_file("ring:cameras=5,zoom=2"), Catch::Matchers::Contains("unknown key 'zoom'"));
 }
 
 TEST_CASE("the thesis subject stays inside the default capture volume") {

@@ -9,16 +9,20 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/synth/dataset_writer.hpp"
+#include "hullpose/synth/rig_gen.hpp"
 
 namespace {
 
 constexpr const char* kUsage = R"(usage: hullpose-synth --motion <NAME|FILE.bvh> --out DIR [options]
+       hullpose-synth --rig-out FILE [--rig R]      (only write the rig file)
   --motion M        walk, run, jump, crouch, turn, wave, tpose, or a BVH file (CMU schemes A/B/C)
   --out DIR         dataset directory (created)
   --frames N        frames to render (default: the whole clip; 300 for built-in motions)
   --fps F           rig frame rate (default 30)
-  --rig R           thesis8 (7 ring + 1 ceiling camera, 800x600; default) or a rig file
+  --rig R           thesis8 (7 ring + 1 ceiling camera, 800x600; default), a rig file, or a ring:
+                    ring:cameras=N,radius=MM,height=MM,tilt=DEG,ceiling=0|1,vfov=DEG,k1=K,width=PX,rows=PX
   --rgb             also render colour frames and background-only frames
+  --rig-out FILE    also write the rig file to FILE
   --backgrounds K   background-only frames per camera with --rgb (default 10)
   --noise SPEC      faults: salt=P,pepper=P,blobs=N,holes=N,blob_px=R,calib_px=S,calib_deg=S,
                     jitter_ms=S,drop=P,dark=CAM[@FRAME]
@@ -64,6 +68,7 @@ int main(int argc, char** argv) {
   try {
     SynthConfig cfg;
     bool have_motion = false;
+    std::string rig_out;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       auto value = [&]() -> std::string {
@@ -84,6 +89,8 @@ int main(int argc, char** argv) {
         cfg.fps = to_number(a, value());
       } else if (a == "--rig") {
         cfg.rig = value();
+      } else if (a == "--rig-out") {
+        rig_out = value();
       } else if (a == "--rgb") {
         cfg.rgb = true;
       } else if (a == "--backgrounds") {
@@ -117,6 +124,10 @@ int main(int argc, char** argv) {
         HULLPOSE_THROW("unknown option '" << a << "' (see --help)");
       }
     }
+    if (!rig_out.empty()) {
+      hullpose::save_rig(rig_from_name_or_file(cfg.rig), rig_out);
+      if (!have_motion) return 0;
+    }
     HULLPOSE_THROW_UNLESS(have_motion, "--motion is required (see --help)");
     HULLPOSE_THROW_UNLESS(!cfg.out.empty(), "--out is required (see --help)");
     HULLPOSE_THROW_UNLESS(cfg.body.build >= 0.5 && cfg.body.build <= 2, "--build must be in 0.5..2");
@@ -130,7 +141,7 @@ int main(int argc, char** argv) {
   } catch (const hullpose::Error& e) {
     std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
     return 2;
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {  // cv::Exception, std::filesystem::filesystem_error, ...
     std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
     return 2;
   }

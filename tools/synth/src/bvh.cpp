@@ -1,6 +1,7 @@
 #include "hullpose/synth/bvh.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -225,7 +226,9 @@ BvhClip parse_bvh(std::string_view text, const std::string& source) {
   for (const auto& j : clip.joints)
     for (BvhChannel c : j.channels) owner.emplace_back(&j, c);
 
-  clip.motion.reserve(static_cast<size_t>(clip.frames) * static_cast<size_t>(clip.channel_count));
+  // Every value takes at least two bytes of text: a lying frame count cannot reserve more.
+  clip.motion.reserve(std::min(static_cast<size_t>(clip.frames) * static_cast<size_t>(clip.channel_count),
+                               text.size() / 2));
   std::string_view line;
   int line_no = 0;
   int read = 0;

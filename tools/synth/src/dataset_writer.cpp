@@ -1,6 +1,7 @@
 #include "hullpose/synth/dataset_writer.hpp"
 
 #include <chrono>
+#include <mutex>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -53,7 +54,9 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   body.stature_mm = motion->stature_mm();
 
   const DatasetPaths paths(cfg.out);
-  std::filesystem::create_directories(cfg.out);
+  std::error_code ec;
+  std::filesystem::create_directories(cfg.out, ec);
+  HULLPOSE_THROW_UNLESS(!ec, cfg.out.string() << ": cannot create the dataset directory: " << ec.message());
   const Rig written = perturb_calibration(rig, cfg.faults, cfg.seed);
   save_rig(written, paths.rig());
   if (!(written == rig)) save_rig(rig, cfg.out / "rig_true.yaml");
@@ -81,22 +84,36 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   const std::unique_ptr<Scene> scene = cfg.rgb ? std::make_unique<Scene>(cfg.scene, cfg.seed) : nullptr;
   std::vector<std::unique_ptr<CameraJob>> jobs;
   for (const auto& c : rig.cameras) {
-    std::filesystem::create_directories(paths.camera_dir(c.id));
+    std::filesystem::create_directories(paths.camera_dir(c.id), ec);
+    HULLPOSE_THROW_UNLESS(!ec, paths.camera_dir(c.id).string() << ": cannot create: " << ec.message());
     jobs.push_back(std::make_unique<CameraJob>(c.id, c));
   }
   const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression};
   const std::vector<int> png_mask = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression, cv::IMWRITE_PNG_STRATEGY,
                                      cv::IMWRITE_PNG_STRATEGY_RLE};
   const int n = static_cast<int>(jobs.size());
-  if (scene) {
+  // Cameras in parallel; the first error (e.g. a full disk) is rethrown here, on this thread.
+  auto for_each_camera = [&](const std::function<void(CameraJob&)>& work) {
+    std::mutex mutex;
+    std::string error;
     cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
       for (int i = range.start; i < range.end; ++i) {
-        auto& job = *jobs[static_cast<size_t>(i)];
-        job.colour = std::make_unique<CameraRenderer>(*motion, body, *rig.find(job.id), *scene, cfg.fps);
-        for (int k = 0; k < cfg.backgrounds; ++k) {
-          job.colour->render_background(k, job.bgr);
-          write_png(paths.background(job.id, k), job.bgr, png);
+        try {
+          work(*jobs[static_cast<size_t>(i)]);
+        } catch (const std::exception& e) {
+          const std::lock_guard<std::mutex> lock(mutex);
+          if (error.empty()) error = e.what();
         }
+      }
+    });
+    HULLPOSE_THROW_UNLESS(error.empty(), error);
+  };
+  if (scene) {
+    for_each_camera([&](CameraJob& job) {
+      job.colour = std::make_unique<CameraRenderer>(*motion, body, *rig.find(job.id), *scene, cfg.fps);
+      for (int k = 0; k < cfg.backgrounds; ++k) {
+        job.colour->render_background(k, job.bgr);
+        write_png(paths.background(job.id, k), job.bgr, png);
       }
     });
   }
@@ -113,33 +130,30 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
       pose_avatar(body, joints, primitives);
       if (scene) scene->shadows(primitives, atlas);
     }
-    cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
-      for (int i = range.start; i < range.end; ++i) {
-        auto& job = *jobs[static_cast<size_t>(i)];
-        if (frame_dropped(cfg.faults, cfg.seed, job.id, f)) continue;  // the camera sent nothing
-        const double tc = t + trigger_offset_s(cfg.faults, cfg.seed, job.id, f);
-        const std::vector<Primitive>* prims = &primitives;
-        const cv::Mat* shadow = &atlas;
-        if (!shared_pose) {
-          motion->sample(tc, job.joints);
-          pose_avatar(body, job.joints, job.primitives);
-          if (scene) scene->shadows(job.primitives, job.atlas);
-          prims = &job.primitives;
-          shadow = &job.atlas;
-        }
-        if (scene)
-          job.colour->render_posed(f, tc, *prims, *shadow, job.bgr, job.mask);
-        else
-          job.view.render_mask(*prims, job.mask);
-        if (camera_dark(cfg.faults, job.id, f)) {
-          job.mask.setTo(0);
-          if (scene) job.colour->render_dark(f, job.bgr);
-        } else if (cfg.faults.silhouette_noise()) {
-          corrupt_silhouette(job.mask, cfg.faults, cfg.seed, job.id, f);
-        }
-        write_png(paths.mask(job.id, f), job.mask, png_mask);
-        if (scene) write_png(paths.rgb(job.id, f), job.bgr, png);
+    for_each_camera([&](CameraJob& job) {
+      if (frame_dropped(cfg.faults, cfg.seed, job.id, f)) return;  // the camera sent nothing
+      const double tc = t + trigger_offset_s(cfg.faults, cfg.seed, job.id, f);
+      const std::vector<Primitive>* prims = &primitives;
+      const cv::Mat* shadow = &atlas;
+      if (!shared_pose) {
+        motion->sample(tc, job.joints);
+        pose_avatar(body, job.joints, job.primitives);
+        if (scene) scene->shadows(job.primitives, job.atlas);
+        prims = &job.primitives;
+        shadow = &job.atlas;
       }
+      if (scene)
+        job.colour->render_posed(f, tc, *prims, *shadow, job.bgr, job.mask);
+      else
+        job.view.render_mask(*prims, job.mask);
+      if (camera_dark(cfg.faults, job.id, f)) {
+        job.mask.setTo(0);
+        if (scene) job.colour->render_dark(f, job.bgr);
+      } else if (cfg.faults.silhouette_noise()) {
+        corrupt_silhouette(job.mask, cfg.faults, cfg.seed, job.id, f);
+      }
+      write_png(paths.mask(job.id, f), job.mask, png_mask);
+      if (scene) write_png(paths.rgb(job.id, f), job.bgr, png);
     });
     if (progress) progress(f + 1, frames);
   }

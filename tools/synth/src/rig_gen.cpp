@@ -1,6 +1,8 @@
 #include "hullpose/synth/rig_gen.hpp"
 
 #include <Eigen/Geometry>
+#include <charconv>
+#include <string_view>
 
 #include "hullpose/common/check.hpp"
 
@@ -68,7 +70,35 @@ Rig make_ring_rig(const RingRigSpec& s) {
 
 Rig rig_from_name_or_file(const std::string& spec) {
   if (spec == "thesis8") return make_ring_rig({});
-  return load_rig(spec);
+  if (spec.rfind("ring:", 0) != 0) return load_rig(spec);
+  RingRigSpec r;
+  r.rig_id = "ring";
+  std::string_view rest = std::string_view(spec).substr(5);
+  while (!rest.empty()) {
+    const size_t comma = rest.find(',');
+    const std::string_view item = rest.substr(0, comma);
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+    const size_t eq = item.find('=');
+    HULLPOSE_THROW_UNLESS(eq != std::string_view::npos, "rig '" << spec << "': '" << item << "' is not key=value");
+    const std::string key(item.substr(0, eq)), text(item.substr(eq + 1));
+    double v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    HULLPOSE_THROW_UNLESS(ec == std::errc() && end == text.data() + text.size() && std::isfinite(v),
+                          "rig '" << spec << "': " << key << "='" << text << "' is not a number");
+    if (key == "cameras") r.ring_cameras = static_cast<int>(v);
+    else if (key == "radius") r.radius_mm = v;
+    else if (key == "height") r.height_mm = v;
+    else if (key == "tilt") r.tilt_deg = v;
+    else if (key == "ceiling") r.ceiling = v != 0;
+    else if (key == "vfov") r.vfov_deg = v;
+    else if (key == "k1") r.k1 = v;
+    else if (key == "width") r.width = static_cast<int>(v);
+    else if (key == "rows") r.height = static_cast<int>(v);
+    else
+      HULLPOSE_THROW("rig '" << spec << "': unknown key '" << key
+                             << "' (cameras, radius, height, tilt, ceiling, vfov, k1, width, rows)");
+  }
+  return make_ring_rig(r);
 }
 
 }  // namespace hullpose::synth

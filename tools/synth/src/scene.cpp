@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -46,6 +47,8 @@ bool segment_hits(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Prim
 }  // namespace
 
 namespace {
+constexpr int kNoiseMargin = 32;      // the noise bank is this much larger than the image
+constexpr float kNoiseScale = 1 / 64.f;  // grey levels per unit of the 16-bit noise bank
 // The shadow map holds the floor, then the four walls (x = +R, y = +R, x = -R, y = -R), stacked
 // vertically with a gap so that the blur does not bleed between them.
 constexpr int kGap = 4;
@@ -81,34 +84,72 @@ void Scene::shadows(const std::vector<Primitive>& primitives, cv::Mat& atlas) co
   const int n = static_cast<int>(std::ceil(2 * R / s)), h = static_cast<int>(std::ceil(H / s));
   atlas.create(n + 4 * (h + kGap) + kGap, n, CV_32FC1);
   atlas.setTo(0);
+  if (primitives.empty()) return;
+  // The avatar's bounding box: its shadow on a plane lies inside the box's projection from the
+  // lamp, so only those texels are ray-traced (the rest of the room stays lit).
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Primitive& q : primitives) {
+    lo = lo.cwiseMin(q.bound_centre() - Eigen::Vector3d::Constant(q.bound_radius()));
+    hi = hi.cwiseMax(q.bound_centre() + Eigen::Vector3d::Constant(q.bound_radius()));
+  }
+  // Bounding spheres of the feet reach below the floor: nothing there casts a shadow.
+  lo = lo.cwiseMax(Eigen::Vector3d(-R, -R, 0));
+  hi = hi.cwiseMin(Eigen::Vector3d(R, R, H));
   const auto normals = plane_normals();
   for (int tile = 0; tile < 5; ++tile) {
     const int row0 = tile == 0 ? 0 : n + kGap + (tile - 1) * (h + kGap);
     const int rows = tile == 0 ? n : h;
     const Eigen::Vector3d normal = normals[static_cast<size_t>(tile)];
-    for (int r = 0; r < rows; ++r) {
-      float* out = atlas.ptr<float>(row0 + r);
-      for (int c = 0; c < n; ++c) {
-        const double a = -R + (c + 0.5) * s, b = tile == 0 ? -R + (r + 0.5) * s : (r + 0.5) * s;
-        Eigen::Vector3d p;
-        switch (tile) {
-          case 0: p = {a, b, 0}; break;
-          case 1: p = {R, a, b}; break;
-          case 2: p = {a, R, b}; break;
-          case 3: p = {-R, a, b}; break;
-          default: p = {a, -R, b}; break;
-        }
-        double dark = 0;
-        for (size_t l = 0; l < lights_.size(); ++l) {
-          const Eigen::Vector3d d = lights_[l] - p;
-          if (d.dot(normal) <= 0) continue;  // the lamp is behind this surface
+    // World point of texel (c, r) and texel coordinates (c, r) of a world point on this plane.
+    auto world = [&](double c, double r) -> Eigen::Vector3d {
+      const double a = -R + (c + 0.5) * s, b = tile == 0 ? -R + (r + 0.5) * s : (r + 0.5) * s;
+      switch (tile) {
+        case 0: return {a, b, 0};
+        case 1: return {R, a, b};
+        case 2: return {a, R, b};
+        case 3: return {-R, a, b};
+        default: return {a, -R, b};
+      }
+    };
+    auto texel = [&](const Eigen::Vector3d& p) -> Eigen::Vector2d {
+      const double a = tile == 0 || tile == 2 || tile == 4 ? p.x() : p.y();
+      const double b = tile == 0 ? p.y() + R : p.z();
+      return {(a + R) / s - 0.5, b / s - 0.5};
+    };
+    const Eigen::Vector3d on_plane = world(0, 0);
+    for (size_t l = 0; l < lights_.size(); ++l) {
+      const Eigen::Vector3d& L = lights_[l];
+      if ((L - on_plane).dot(normal) <= 0) continue;  // the lamp is behind this surface
+      double c0 = 0, c1 = n - 1, r0 = 0, r1 = rows - 1;
+      int hits = 0;
+      Eigen::Vector2d tlo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), thi = -tlo;
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d corner((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+        const Eigen::Vector3d d = corner - L;
+        const double along = d.dot(normal);
+        const double t = along < 0 ? (on_plane - L).dot(normal) / along : -1;
+        if (t < 0.999) continue;  // the corner's ray from the lamp misses the plane
+        ++hits;
+        const Eigen::Vector2d tc = texel(L + t * d);
+        tlo = tlo.cwiseMin(tc);
+        thi = thi.cwiseMax(tc);
+      }
+      if (hits == 0) continue;  // the avatar casts no shadow on this plane
+      if (hits == 8) {
+        c0 = std::max(c0, std::floor(tlo.x()) - 1), c1 = std::min(c1, std::ceil(thi.x()) + 1);
+        r0 = std::max(r0, std::floor(tlo.y()) - 1), r1 = std::min(r1, std::ceil(thi.y()) + 1);
+      }
+      for (int r = static_cast<int>(r0); r <= static_cast<int>(r1); ++r) {
+        float* out = atlas.ptr<float>(row0 + r);
+        for (int c = static_cast<int>(c0); c <= static_cast<int>(c1); ++c) {
+          const Eigen::Vector3d p = world(c, r);
+          const Eigen::Vector3d d = L - p;
           for (const Primitive& q : primitives)
             if (segment_hits(p, d, q)) {
-              dark += light_weight_[l];
+              out[c] += static_cast<float>(light_weight_[l]);
               break;
             }
         }
-        out[c] = static_cast<float>(dark);
       }
     }
   }
@@ -204,6 +245,9 @@ CameraRenderer::CameraRenderer(const Motion& motion, const BodyShape& body, cons
                                double fps)
     : motion_(motion), body_(body), scene_(scene), fps_(fps), view_(camera), backdrop_(scene.backdrop(view_)) {
   HULLPOSE_THROW_UNLESS(fps > 0, "frame rate must be positive");
+  noise_.create(camera.height + kNoiseMargin, camera.width + kNoiseMargin, CV_16SC3);
+  cv::RNG rng(draw_seed(scene.seed(), camera.id, -1, 102));
+  rng.fill(noise_, cv::RNG::NORMAL, 0, scene.options().noise_sigma / static_cast<double>(kNoiseScale));
 }
 
 void CameraRenderer::render(int frame, cv::Mat& bgr, cv::Mat& mask) {
@@ -232,19 +276,21 @@ void CameraRenderer::render_background(int index, cv::Mat& bgr) {
 
 void CameraRenderer::render_dark(int frame, cv::Mat& bgr) {
   const auto& c = camera();
-  noise_.create(c.height, c.width, CV_32FC3);
-  cv::RNG rng(draw_seed(scene_.seed(), c.id, frame, 103));
-  rng.fill(noise_, cv::RNG::NORMAL, 0, scene_.options().noise_sigma);
-  noise_.convertTo(bgr, CV_8UC3);  // saturates: black plus the positive half of the noise
+  std::mt19937_64 rng(draw_seed(scene_.seed(), c.id, frame, 103));
+  std::uniform_int_distribution<int> offset(0, kNoiseMargin);
+  // Saturates: black plus the positive half of the noise.
+  noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height)).convertTo(bgr, CV_8UC3, kNoiseScale);
 }
 
 void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {
   const auto& c = camera();
   const float gain = static_cast<float>(scene_.gain(c.id, frame, t_s));
   const float strength = static_cast<float>(scene_.options().shadow_strength);
-  noise_.create(c.height, c.width, CV_32FC3);
-  cv::RNG rng(draw_seed(scene_.seed(), c.id, frame, 102));
-  rng.fill(noise_, cv::RNG::NORMAL, 0, scene_.options().noise_sigma);
+  // Sensor noise: a window of the camera's noise bank at a random offset per frame (drawing
+  // 1.4 M normal deviates per frame would cost more than the rest of the frame).
+  std::mt19937_64 rng(draw_seed(scene_.seed(), c.id, frame, 102));
+  std::uniform_int_distribution<int> offset(0, kNoiseMargin);
+  const cv::Mat noise_window = noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height));
   bgr.create(c.height, c.width, CV_8UC3);
   std::array<cv::Vec3f, kNumMaterials> palette;
   for (int m = 0; m < kNumMaterials; ++m) palette[static_cast<size_t>(m)] = scene_.colour(static_cast<Material>(m));
@@ -253,7 +299,7 @@ void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {
     const auto* shadow = shadow_.ptr<float>(v);
     const auto* material = material_.ptr<uint8_t>(v);
     const float* facing = person ? facing_.ptr<float>(v) : nullptr;
-    const auto* noise = noise_.ptr<cv::Vec3f>(v);
+    const auto* noise = noise_window.ptr<cv::Vec3s>(v);
     auto* out = bgr.ptr<cv::Vec3b>(v);
     for (int u = 0; u < c.width; ++u) {
       cv::Vec3f px;
@@ -261,7 +307,7 @@ void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {
         px = palette[material[u]] * (0.35f + 0.65f * facing[u]);
       else
         px = base[u] * (1.f - strength * shadow[u]);
-      px = px * gain + noise[u];
+      px = px * gain + cv::Vec3f(noise[u][0], noise[u][1], noise[u][2]) * kNoiseScale;
       out[u] = cv::Vec3b(cv::saturate_cast<uint8_t>(px[0]), cv::saturate_cast<uint8_t>(px[1]),
                          cv::saturate_cast<uint8_t>(px[2]));
     }

@@ -29,7 +29,9 @@ struct RingRigSpec {
 // Throws hullpose::Error on a spec that gives no valid rig (e.g. a camera inside the volume).
 Rig make_ring_rig(const RingRigSpec& spec);
 
-// "thesis8" = make_ring_rig({}); anything else is a rig file path.
+// "thesis8" = make_ring_rig({}); "ring:cameras=12,radius=4500,height=2000,tilt=15,ceiling=0,
+// vfov=50,k1=-0.1,width=1280,rows=720" (any subset, the rest as thesis8) a custom ring;
+// anything else is a rig file path.
 Rig rig_from_name_or_file(const std::string& spec);
 
 // Camera extrinsics looking from `centre` at `target` (world z up, camera y down).

@@ -82,7 +82,8 @@ class CameraRenderer {
   Scene::Backdrop backdrop_;
   JointPositions joints_{};
   std::vector<Primitive> primitives_;
-  cv::Mat atlas_, shadow_, material_, facing_, noise_;
+  cv::Mat atlas_, shadow_, material_, facing_;
+  cv::Mat noise_;  // CV_16SC3 bank of sensor noise, a little larger than the image
 };
 
 }  // namespace hullpose::synth

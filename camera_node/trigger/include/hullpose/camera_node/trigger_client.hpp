@@ -1,0 +1,53 @@
+#pragma once
+// The trigger stage as a camera node's capture loop uses it with an externally triggered
+// camera: it owns the TRIGGER subscription and the edge source, and tags each frame as it comes
+// (camera_node's FrameStamper seam):
+//
+//   lcm::LCM bus(url);
+//   auto edges = open_edge_source("gpiod:gpiochip0:17", clock);
+//   TriggerClient client(bus, *edges, listener_config, clock);
+//   stamper = [&](const Frame& f) { auto t = client.tag(f.sequence, f.capture_utime, 20); ... };
+//
+// A free-running camera needs the frames after an edge to choose the nearest one, so it keeps a
+// few frames and uses TriggerListener directly.
+#include <lcm/lcm-cpp.hpp>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "hullpose/camera_node/trigger_listener.hpp"
+
+namespace hullpose::trigger {
+
+class TriggerClient {
+ public:
+  // node_now: the node clock (tests inject one); default clock.now_us().
+  TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerConfig& config, const NodeClock& clock,
+                const std::string& channel = "TRIGGER", std::function<int64_t()> node_now = {});
+  ~TriggerClient();
+  TriggerClient(const TriggerClient&) = delete;
+  TriggerClient& operator=(const TriggerClient&) = delete;
+
+  // Tags one frame: frame_utime is its sensor timestamp, microseconds since the epoch on this
+  // node's realtime clock. Handles TRIGGER messages and edges until the frame's edge is mapped
+  // or wait_ms passes; std::nullopt if it belongs to no trigger edge (counted).
+  std::optional<TaggedFrame> tag(int64_t frame_id, int64_t frame_utime, int wait_ms);
+
+  const TriggerListener& listener() const { return listener_; }
+  const Counters& counters() const { return counters_; }
+
+ private:
+  void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+
+  lcm::LCM& bus_;
+  EdgeSource& edges_;
+  NodeClock clock_;
+  std::function<int64_t()> node_now_;
+  TriggerListener listener_;
+  lcm::Subscription* subscription_ = nullptr;
+  hullpose_msg::trigger_t msg_;
+  std::vector<TaggedFrame> tagged_;
+  Counters counters_;
+};
+
+}  // namespace hullpose::trigger

@@ -1,0 +1,56 @@
+#include "hullpose/camera_node/trigger_client.hpp"
+
+#include <poll.h>
+
+#include <algorithm>
+
+#include "hullpose/common/check.hpp"
+#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/common/time.hpp"
+
+namespace hullpose::trigger {
+
+TriggerClient::TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerConfig& config, const NodeClock& clock,
+                             const std::string& channel, std::function<int64_t()> node_now)
+    : bus_(bus), edges_(edges), clock_(clock), node_now_(std::move(node_now)), listener_(config, edges) {
+  if (!node_now_) node_now_ = [c = clock_] { return c.now_us(); };
+  HULLPOSE_THROW_UNLESS(bus_.good(), "trigger client: the LCM handle is not usable");
+  subscription_ = bus_.subscribe(channel, &TriggerClient::on_trigger, this);
+  tagged_.reserve(MapperConfig::kEdges);
+}
+
+TriggerClient::~TriggerClient() { bus_.unsubscribe(subscription_); }
+
+void TriggerClient::on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  if (!wire::trigger_ok(rbuf->data, rbuf->data_size) ||
+      msg_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) {
+    counters_.add("malformed_trigger");
+    return;
+  }
+  listener_.on_announcement(msg_, node_now_());
+}
+
+std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
+  // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
+  const int64_t frame_us = frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
+  listener_.on_frame(frame_id, frame_us);
+  const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
+  for (;;) {
+    pollfd fds[2] = {{bus_.getFileno(), POLLIN, 0}, {edges_.fd(), POLLIN, 0}};
+    while (::poll(fds, 1, 0) > 0 && (fds[0].revents & POLLIN)) bus_.handle();
+    tagged_.clear();
+    listener_.poll(node_now_(), tagged_);
+    for (const TaggedFrame& t : tagged_) {
+      if (t.frame_id == frame_id) return t;
+      counters_.add("tag_after_timeout");  // an earlier frame, already given up on
+    }
+    const int64_t left_us = until - monotonic_us();
+    if (left_us <= 0) break;
+    const int timeout = static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5));
+    ::poll(fds, edges_.fd() >= 0 ? 2 : 1, timeout);
+  }
+  counters_.add("untagged_frame");
+  return std::nullopt;
+}
+
+}  // namespace hullpose::trigger

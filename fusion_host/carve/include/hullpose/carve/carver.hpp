@@ -1,0 +1,125 @@
+#pragma once
+// Volumetric visual hull of one trigger instant.
+//
+// Definition (what both the fast path and the brute-force reference compute):
+//   the pixel of voxel v in camera c is (round(u), round(v)) of VoxelProjector::project(centre of v),
+//   i.e. the pixel whose centre is nearest to the projected voxel centre (OpenCV pixel centres
+//   are integer coordinates; halves round up). The voxel centre "projects inside the
+//   silhouette" iff it is in front of the camera, that pixel lies in the image, and the mask is
+//   non-zero there. A voxel is kept iff it misses (does not project inside) in at most
+//   `tolerance` (k) of the cameras that delivered a silhouette this instant ("all but k").
+//   Cameras that sent nothing (empty cv::Mat), or sent a mask of the wrong size or type, are
+//   skipped and reported; with no more than k cameras present the hull is empty and not valid.
+//
+// Fast path (hierarchical, conservative, exact): per rig and resolution, the Carver projects
+// every voxel centre once and stores, for the nodes of a 3-level octree of voxel blocks, the
+// bounding rectangle of the pixels of their voxel centres in every camera. Per frame it builds
+// an integral image of each silhouette's foreground box, then classifies nodes per camera as all
+// inside (the rectangle is all foreground), all outside (no foreground) or mixed, counts misses
+// and only descends into nodes that are still undecided. Voxels of undecided finest nodes are
+// tested at their pixel, read from a per-voxel table computed at construction with the same
+// VoxelProjector as the reference (2 bytes per voxel and camera, up to 64 MiB: 128³ with 8
+// cameras), or projected on the fly beyond that. Either way the result equals
+// carve_brute_force() voxel for voxel by construction (checked in tests/fusion/test_carve).
+//
+// Lifecycle: construct once per (rig, resolution, tolerance); carve() per frame reuses all
+// buffers (no allocation at steady state).
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <span>
+#include <vector>
+
+#include "hullpose/common/camera.hpp"
+#include "hullpose/common/rig.hpp"
+#include "hullpose/common/silhouette_codec.hpp"
+#include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/fusion/bit_grid.hpp"
+
+namespace hullpose::carve {
+
+// World point -> nearest pixel, the single definition shared by the fast path and the reference.
+// Same model as CameraModel::project (pinhole + OpenCV k1 k2 p1 p2 k3), inlined.
+class VoxelProjector {
+ public:
+  VoxelProjector() = default;
+  explicit VoxelProjector(const CameraModel& camera);
+  // False if the point is not in front of the camera or its pixel is outside the image.
+  bool pixel(const Eigen::Vector3d& world, int& px, int& py) const {
+    const Eigen::Vector3d pc = R_ * world + t_;
+    if (!(pc.z() > 0)) return false;
+    const double x = pc.x() / pc.z(), y = pc.y() / pc.z();
+    const double r2 = x * x + y * y;
+    const double radial = 1 + r2 * (k1_ + r2 * (k2_ + r2 * k3_));
+    const double xd = x * radial + 2 * p1_ * x * y + p2_ * (r2 + 2 * x * x);
+    const double yd = y * radial + p1_ * (r2 + 2 * y * y) + 2 * p2_ * x * y;
+    const double u = fx_ * xd + cx_, v = fy_ * yd + cy_;
+    // Compare as doubles first: a far-off point must not overflow the int conversion.
+    if (!(u >= -0.5 && v >= -0.5 && u < width_ - 0.5 && v < height_ - 0.5)) return false;
+    px = static_cast<int>(u + 0.5);
+    py = static_cast<int>(v + 0.5);
+    return true;
+  }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
+  double fx_ = 0, fy_ = 0, cx_ = 0, cy_ = 0, k1_ = 0, k2_ = 0, p1_ = 0, p2_ = 0, k3_ = 0;
+  int width_ = 0, height_ = 0;
+};
+
+struct CarveOptions {
+  int resolution = 64;  // voxels along the longest axis of the capture volume
+  int tolerance = 0;    // k: a voxel may miss the silhouette in up to k present cameras
+  int threads = 1;      // OpenMP threads for carve()
+};
+
+// Per-frame outcome. Reuse one instance across frames (its vectors keep their capacity).
+struct CarveReport {
+  bool valid = false;                 // more than `tolerance` cameras present
+  int cameras_used = 0;
+  std::vector<int> missing_cameras;   // camera ids that sent nothing
+  std::vector<int> rejected_cameras;  // camera ids whose mask had the wrong size or type
+  size_t voxels = 0;                  // voxels in the hull
+};
+
+class Carver {
+ public:
+  // Precomputes per camera the projections of the grid (cost ~ voxels x cameras projections).
+  // Throws hullpose::Error on a bad resolution or tolerance.
+  Carver(const Rig& rig, const CarveOptions& options);
+  ~Carver();
+  Carver(const Carver&) = delete;
+  Carver& operator=(const Carver&) = delete;
+
+  const VoxelGridSpec& grid() const { return grid_; }
+  const CarveOptions& options() const { return options_; }
+
+  // views[i] is the silhouette of rig.cameras[i] (CV_8UC1, non-zero = foreground, the camera's
+  // size) or an empty Mat if that camera sent nothing. fg_boxes, if not empty, holds per view the
+  // bounding box of its foreground (e.g. the silhouette codec's ROI); pixels outside it must be
+  // background. Without it the box is computed. `hull` is resized to the grid.
+  void carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report,
+             std::span<const PixelRoi> fg_boxes = {});
+
+  // Reference: every voxel centre projected into every present camera (tests, benchmarks).
+  void carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report) const;
+
+ private:
+  struct Precomputed;
+  struct Frame;
+  // Which views are usable; fills the report's camera lists. Returns the present camera indices.
+  void check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const;
+
+  Rig rig_;
+  CarveOptions options_;
+  VoxelGridSpec grid_;
+  std::vector<VoxelProjector> projectors_;
+  std::unique_ptr<Precomputed> pre_;
+  std::unique_ptr<Frame> frame_;
+};
+
+}  // namespace hullpose::carve

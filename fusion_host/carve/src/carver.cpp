@@ -1,0 +1,345 @@
+#include "hullpose/carve/carver.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <opencv2/imgproc.hpp>
+
+#include "hullpose/common/check.hpp"
+
+namespace hullpose::carve {
+
+VoxelProjector::VoxelProjector(const CameraModel& c)
+    : R_(c.R), t_(c.t), fx_(c.fx), fy_(c.fy), cx_(c.cx), cy_(c.cy), k1_(c.dist[0]), k2_(c.dist[1]),
+      p1_(c.dist[2]), p2_(c.dist[3]), k3_(c.dist[4]), width_(c.width), height_(c.height) {}
+
+namespace {
+
+constexpr int kLevels = 3;      // node sizes F, 2F, 4F voxels; the top level are the cells
+constexpr int kMaxCameras = 64;
+// Per-voxel pixel tables (2 bytes per voxel and camera) up to this size; beyond, voxels of
+// undecided finest nodes are projected on the fly (same projector, same result).
+constexpr size_t kMaxPixelTableBytes = size_t{64} << 20;
+constexpr uint16_t kUnseen = 0xffff;
+
+// Bounding rectangle (inclusive) of the pixels of a node's voxel centres in one camera.
+struct Rect {
+  int16_t x0 = INT16_MAX, y0 = INT16_MAX, x1 = INT16_MIN, y1 = INT16_MIN;
+  uint8_t unseen = 0;  // some voxel of the node is behind the camera or outside the image
+  void add(int x, int y) {
+    x0 = static_cast<int16_t>(std::min<int>(x0, x));
+    y0 = static_cast<int16_t>(std::min<int>(y0, y));
+    x1 = static_cast<int16_t>(std::max<int>(x1, x));
+    y1 = static_cast<int16_t>(std::max<int>(y1, y));
+  }
+  void add(const Rect& r) {
+    if (r.x0 <= r.x1) {
+      add(r.x0, r.y0);
+      add(r.x1, r.y1);
+    }
+    unseen |= r.unseen;
+  }
+};
+
+enum class Verdict { kInside, kOutside, kMixed };
+
+}  // namespace
+
+struct Carver::Precomputed {
+  int finest = 2;                         // F
+  std::array<Eigen::Vector3i, kLevels> nodes;  // node counts per level
+  std::array<std::vector<Rect>, kLevels> rects;  // [node * cameras + camera]
+  // Optional: the pixel of every voxel centre relative to its finest node's rectangle,
+  // (dy << 8 | dx), or kUnseen; [(node * cameras + camera) * F³ + voxel in node].
+  std::vector<uint16_t> pixels;
+  std::vector<uint8_t> wide;  // [node * cameras + camera]: rectangle wider than 255 px, no table
+  int size(int level) const { return finest << level; }
+  size_t node_index(int level, int x, int y, int z) const {
+    const Eigen::Vector3i& n = nodes[static_cast<size_t>(level)];
+    return (static_cast<size_t>(z) * n.y() + y) * n.x() + x;
+  }
+};
+
+struct Carver::Frame {
+  std::vector<int> present;
+  std::vector<uint8_t> is_present;
+  std::vector<cv::Rect> boxes;
+  std::vector<std::vector<int32_t>> sat_storage;
+  std::vector<cv::Mat> sat;  // headers over sat_storage: (box.height + 1) x (box.width + 1)
+  std::vector<const cv::Mat*> masks;
+};
+
+Carver::Carver(const Rig& rig, const CarveOptions& options)
+    : rig_(rig), options_(options), pre_(std::make_unique<Precomputed>()), frame_(std::make_unique<Frame>()) {
+  rig_.validate();
+  const int ncam = static_cast<int>(rig_.cameras.size());
+  HULLPOSE_THROW_UNLESS(ncam >= 1 && ncam <= kMaxCameras,
+                        "carve: rig '" << rig_.rig_id << "' has " << ncam << " cameras, supported 1.." << kMaxCameras);
+  HULLPOSE_THROW_UNLESS(options.tolerance >= 0 && options.tolerance < ncam,
+                        "carve: tolerance " << options.tolerance << " must be in 0.." << ncam - 1 << " for rig '"
+                                            << rig_.rig_id << "'");
+  HULLPOSE_THROW_UNLESS(options.threads >= 1, "carve: threads must be >= 1, got " << options.threads);
+  grid_ = VoxelGridSpec::fit(rig_.volume, options.resolution);
+  for (const CameraModel& c : rig_.cameras) {
+    HULLPOSE_THROW_UNLESS(c.width < INT16_MAX && c.height < INT16_MAX,
+                          "carve: camera " << c.id << " image " << c.width << "x" << c.height << " too large");
+    projectors_.emplace_back(c);
+  }
+
+  // Finest node size: 2 voxels, larger for big grids so the tables stay near 64³ nodes.
+  Precomputed& p = *pre_;
+  p.finest = std::max(2, grid_.dims.maxCoeff() / 64);
+  for (int l = 0; l < kLevels; ++l) {
+    const int s = p.size(l);
+    p.nodes[static_cast<size_t>(l)] = (grid_.dims.array() + s - 1) / s;
+    const Eigen::Vector3i& n = p.nodes[static_cast<size_t>(l)];
+    p.rects[static_cast<size_t>(l)].assign(static_cast<size_t>(n.prod()) * static_cast<size_t>(ncam), Rect{});
+  }
+  // Finest level from every voxel centre, with the projector the reference uses.
+  const Eigen::Vector3i d = grid_.dims;
+  std::vector<Rect>& fine = p.rects[0];
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
+  for (int nz = 0; nz < p.nodes[0].z(); ++nz)
+    for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
+      for (int y = 0; y < d.y(); ++y)
+        for (int x = 0; x < d.x(); ++x) {
+          const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
+          const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
+          for (int c = 0; c < ncam; ++c) {
+            Rect& r = fine[node * static_cast<size_t>(ncam) + static_cast<size_t>(c)];
+            int px, py;
+            if (projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
+              r.add(px, py);
+            else
+              r.unseen = 1;
+          }
+        }
+  // Per-voxel pixel table, relative to the finest rectangles just computed.
+  const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
+  if (fine.size() * f3 * sizeof(uint16_t) <= kMaxPixelTableBytes) {
+    p.pixels.assign(fine.size() * f3, kUnseen);
+    p.wide.assign(fine.size(), 0);
+    for (size_t i = 0; i < fine.size(); ++i)
+      p.wide[i] = fine[i].x0 <= fine[i].x1 && (fine[i].x1 - fine[i].x0 > 254 || fine[i].y1 - fine[i].y0 > 254);
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
+    for (int nz = 0; nz < p.nodes[0].z(); ++nz)
+      for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
+        for (int y = 0; y < d.y(); ++y)
+          for (int x = 0; x < d.x(); ++x) {
+            const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
+            const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
+            const size_t local = static_cast<size_t>(((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
+            for (int c = 0; c < ncam; ++c) {
+              const size_t nc = node * static_cast<size_t>(ncam) + static_cast<size_t>(c);
+              int px, py;
+              if (!p.wide[nc] && projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
+                p.pixels[nc * f3 + local] = static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
+            }
+          }
+  }
+  for (int l = 1; l < kLevels; ++l) {
+    const Eigen::Vector3i& n = p.nodes[static_cast<size_t>(l)];
+    const Eigen::Vector3i& m = p.nodes[static_cast<size_t>(l - 1)];
+    for (int z = 0; z < m.z(); ++z)
+      for (int y = 0; y < m.y(); ++y)
+        for (int x = 0; x < m.x(); ++x)
+          for (int c = 0; c < ncam; ++c)
+            p.rects[static_cast<size_t>(l)][p.node_index(l, x / 2, y / 2, z / 2) * static_cast<size_t>(ncam) +
+                                            static_cast<size_t>(c)]
+                .add(p.rects[static_cast<size_t>(l - 1)][p.node_index(l - 1, x, y, z) * static_cast<size_t>(ncam) +
+                                                         static_cast<size_t>(c)]);
+    (void)n;
+  }
+
+  Frame& f = *frame_;
+  f.is_present.assign(static_cast<size_t>(ncam), 0);
+  f.boxes.resize(static_cast<size_t>(ncam));
+  f.sat_storage.resize(static_cast<size_t>(ncam));
+  f.sat.resize(static_cast<size_t>(ncam));
+  f.masks.assign(static_cast<size_t>(ncam), nullptr);
+  for (int c = 0; c < ncam; ++c)
+    f.sat_storage[static_cast<size_t>(c)].resize(static_cast<size_t>(rig_.cameras[static_cast<size_t>(c)].width + 1) *
+                                                 static_cast<size_t>(rig_.cameras[static_cast<size_t>(c)].height + 1));
+  f.present.reserve(static_cast<size_t>(ncam));
+}
+
+Carver::~Carver() = default;
+
+void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const {
+  HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(), "carve: " << views.size() << " views for the "
+                                                                         << rig_.cameras.size() << " cameras of rig '"
+                                                                         << rig_.rig_id << "'");
+  report.missing_cameras.clear();
+  report.rejected_cameras.clear();
+  present.clear();
+  for (size_t c = 0; c < views.size(); ++c) {
+    const cv::Mat& m = views[c];
+    const CameraModel& cam = rig_.cameras[c];
+    if (m.empty()) {
+      report.missing_cameras.push_back(cam.id);
+    } else if (m.type() != CV_8UC1 || m.cols != cam.width || m.rows != cam.height) {
+      report.rejected_cameras.push_back(cam.id);
+    } else {
+      present.push_back(static_cast<int>(c));
+    }
+  }
+  report.cameras_used = static_cast<int>(present.size());
+  report.valid = report.cameras_used > options_.tolerance;
+}
+
+void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report) const {
+  std::vector<int> present;
+  check_views(views, report, present);
+  hull.reset(grid_.dims);
+  report.voxels = 0;
+  if (!report.valid) return;
+  const int k = options_.tolerance;
+  for (int z = 0; z < grid_.dims.z(); ++z)
+    for (int y = 0; y < grid_.dims.y(); ++y)
+      for (int x = 0; x < grid_.dims.x(); ++x) {
+        const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
+        int misses = 0;
+        for (int c : present) {
+          int px, py;
+          const bool hit = projectors_[static_cast<size_t>(c)].pixel(centre, px, py) &&
+                           views[static_cast<size_t>(c)].ptr<uint8_t>(py)[px] != 0;
+          if (!hit && ++misses > k) break;
+        }
+        if (misses <= k) {
+          hull.set(x, y, z);
+          ++report.voxels;
+        }
+      }
+}
+
+void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report,
+                   std::span<const PixelRoi> fg_boxes) {
+  Frame& f = *frame_;
+  check_views(views, report, f.present);
+  hull.reset(grid_.dims);
+  report.voxels = 0;
+  if (!report.valid) return;
+  HULLPOSE_THROW_UNLESS(fg_boxes.empty() || fg_boxes.size() == views.size(),
+                        "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
+  const int ncam = static_cast<int>(rig_.cameras.size());
+
+  // Integral image of each silhouette over its foreground box only (outside it is background).
+  for (int c : f.present) {
+    const cv::Mat& m = views[static_cast<size_t>(c)];
+    cv::Rect box;
+    if (!fg_boxes.empty()) {
+      const PixelRoi& r = fg_boxes[static_cast<size_t>(c)];
+      box = cv::Rect(r.x, r.y, r.width, r.height) & cv::Rect(0, 0, m.cols, m.rows);
+    } else {
+      box = cv::boundingRect(m);
+    }
+    f.boxes[static_cast<size_t>(c)] = box;
+    f.masks[static_cast<size_t>(c)] = &m;
+    cv::Mat& sat = f.sat[static_cast<size_t>(c)];
+    sat = cv::Mat(box.height + 1, box.width + 1, CV_32S, f.sat_storage[static_cast<size_t>(c)].data());
+    if (box.area() > 0) cv::integral(m(box), sat, CV_32S);  // writes into our buffer: same size and type
+  }
+
+  const Precomputed& p = *pre_;
+  const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
+  const int k = options_.tolerance;
+  const Eigen::Vector3i dims = grid_.dims;
+
+  auto classify = [&](const Rect& r, int c) {
+    const cv::Rect& box = f.boxes[static_cast<size_t>(c)];
+    if (r.x0 > r.x1) return Verdict::kOutside;  // no voxel centre is seen at all
+    const int ix0 = std::max<int>(r.x0, box.x), iy0 = std::max<int>(r.y0, box.y);
+    const int ix1 = std::min<int>(r.x1, box.x + box.width - 1), iy1 = std::min<int>(r.y1, box.y + box.height - 1);
+    if (ix0 > ix1 || iy0 > iy1) return Verdict::kOutside;
+    const cv::Mat& sat = f.sat[static_cast<size_t>(c)];
+    const int ax0 = ix0 - box.x, ay0 = iy0 - box.y, ax1 = ix1 - box.x + 1, ay1 = iy1 - box.y + 1;
+    const int64_t sum = static_cast<int64_t>(sat.at<int32_t>(ay1, ax1)) - sat.at<int32_t>(ay0, ax1) -
+                        sat.at<int32_t>(ay1, ax0) + sat.at<int32_t>(ay0, ax0);
+    if (sum == 0) return Verdict::kOutside;
+    const int64_t area = int64_t{r.x1 - r.x0 + 1} * (r.y1 - r.y0 + 1);
+    // All 255 over the whole rectangle: every voxel centre's pixel is foreground. Other non-zero
+    // values are foreground too but are left to the exact per-voxel test.
+    if (!r.unseen && ix0 == r.x0 && iy0 == r.y0 && ix1 == r.x1 && iy1 == r.y1 && sum == 255 * area)
+      return Verdict::kInside;
+    return Verdict::kMixed;
+  };
+
+  auto fill = [&](const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) {  // [lo, hi)
+    for (int z = lo.z(); z < hi.z(); ++z)
+      for (int y = lo.y(); y < hi.y(); ++y) {
+        uint64_t* row = hull.row(y, z);
+        for (int x = lo.x(); x < hi.x(); ++x) row[x >> 6] |= uint64_t{1} << (x & 63);
+      }
+  };
+
+  // Depth-first over one top cell; `mixed` holds the cameras still undecided for this node.
+  auto visit = [&](auto&& self, int level, const Eigen::Vector3i& node, int base_miss, const int* mixed,
+                   int nmixed) -> void {
+    const int s = p.size(level);
+    const Eigen::Vector3i lo = node * s;
+    const Eigen::Vector3i hi = (lo.array() + s).min(dims.array());
+    if ((lo.array() >= dims.array()).any()) return;
+    const Rect* rects = &p.rects[static_cast<size_t>(level)][p.node_index(level, node.x(), node.y(), node.z()) *
+                                                           static_cast<size_t>(ncam)];
+    std::array<int, kMaxCameras> still;
+    int nstill = 0;
+    for (int i = 0; i < nmixed; ++i) {
+      const int c = mixed[i];
+      switch (classify(rects[c], c)) {
+        case Verdict::kInside: break;
+        case Verdict::kOutside:
+          if (++base_miss > k) return;
+          break;
+        case Verdict::kMixed: still[static_cast<size_t>(nstill++)] = c; break;
+      }
+    }
+    if (base_miss + nstill <= k) {
+      fill(lo, hi);
+      return;
+    }
+    if (level > 0) {
+      for (int cz = 0; cz < 2; ++cz)
+        for (int cy = 0; cy < 2; ++cy)
+          for (int cx = 0; cx < 2; ++cx)
+            self(self, level - 1, Eigen::Vector3i(node * 2 + Eigen::Vector3i(cx, cy, cz)), base_miss, still.data(), nstill);
+      return;
+    }
+    const size_t node_cams = p.node_index(0, node.x(), node.y(), node.z()) * static_cast<size_t>(ncam);
+    for (int z = lo.z(); z < hi.z(); ++z)
+      for (int y = lo.y(); y < hi.y(); ++y) {
+        uint64_t* row = hull.row(y, z);
+        for (int x = lo.x(); x < hi.x(); ++x) {
+          const size_t local = static_cast<size_t>(((z - lo.z()) * s + y - lo.y()) * s + x - lo.x());
+          int misses = base_miss;
+          for (int i = 0; i < nstill; ++i) {
+            const int c = still[static_cast<size_t>(i)];
+            const size_t nc = node_cams + static_cast<size_t>(c);
+            bool hit;
+            if (!p.pixels.empty() && !p.wide[nc]) {
+              const uint16_t v = p.pixels[nc * f3 + local];
+              hit = v != kUnseen && f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(rects[c].y0 + (v >> 8))[rects[c].x0 + (v & 0xff)] != 0;
+            } else {
+              int px, py;
+              hit = projectors_[static_cast<size_t>(c)].pixel(grid_.centre_mm({x, y, z}), px, py) &&
+                    f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(py)[px] != 0;
+            }
+            if (!hit && ++misses > k) break;
+          }
+          if (misses <= k) row[x >> 6] |= uint64_t{1} << (x & 63);
+        }
+      }
+  };
+
+  // Threads own whole z-layers of top cells, so no two write the same hull row.
+  const Eigen::Vector3i top = p.nodes[kLevels - 1];
+  const int* present = f.present.data();
+  const int npresent = static_cast<int>(f.present.size());
+#pragma omp parallel for schedule(dynamic) num_threads(options_.threads)
+  for (int z = 0; z < top.z(); ++z)
+    for (int y = 0; y < top.y(); ++y)
+      for (int x = 0; x < top.x(); ++x) visit(visit, kLevels - 1, Eigen::Vector3i(x, y, z), 0, present, npresent);
+  report.voxels = hull.count();
+}
+
+}  // namespace hullpose::carve

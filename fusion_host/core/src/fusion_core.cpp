@@ -1,0 +1,80 @@
+#include "hullpose/fusion/fusion_core.hpp"
+
+#include "hullpose/common/log.hpp"
+#include "hullpose/common/time.hpp"
+
+namespace hullpose::fusion {
+
+HULLPOSE_LOG_CATEGORY(Fusion, "fusion")
+
+const char* to_string(FusionFailure failure) {
+  switch (failure) {
+    case FusionFailure::kNone: return "none";
+    case FusionFailure::kTooFewViews: return "too_few_views";
+    case FusionFailure::kEmptyHull: return "empty_hull";
+  }
+  return "?";
+}
+
+FusionCore::FusionCore(const Rig& rig, const FusionOptions& options, Counters* counters)
+    : options_(options),
+      counters_(counters),
+      carver_(rig, {options.resolution, options.tolerance, options.threads}),
+      cleanup_(options.cleanup),
+      ck3_({options.curve_rule, thin::ZeroCliqueTest::kSpan3, options.threads, 0}) {
+  result_.grid = carver_.grid();
+  result_.hull.reset(result_.grid.dims);
+  result_.skeleton.reset(result_.grid.dims);
+}
+
+FusionCore::~FusionCore() = default;
+
+const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes) {
+  FusionResult& r = result_;
+  r.timings = {};
+  r.thin = {};
+  r.hull_stats = {};
+  r.skeleton_voxels.clear();
+  r.valid = false;
+  r.failure = FusionFailure::kNone;
+  const StageTimer total;
+
+  StageTimer t;
+  carver_.carve(views, r.hull, r.carve, fg_boxes);
+  r.timings.carve_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
+  if (counters_) {
+    if (!r.carve.missing_cameras.empty()) counters_->add("fusion.camera_missing", static_cast<int64_t>(r.carve.missing_cameras.size()));
+    if (!r.carve.rejected_cameras.empty()) counters_->add("fusion.mask_rejected", static_cast<int64_t>(r.carve.rejected_cameras.size()));
+  }
+  for (int id : r.carve.rejected_cameras) HULLPOSE_LOG(Fusion, Debug) << "camera " << id << ": mask of wrong size or type, skipped";
+  if (!r.carve.valid) {
+    r.failure = FusionFailure::kTooFewViews;
+  } else if (r.carve.voxels == 0) {
+    r.failure = FusionFailure::kEmptyHull;
+  }
+  if (r.failure != FusionFailure::kNone) {
+    if (counters_) counters_->add(r.failure == FusionFailure::kTooFewViews ? "fusion.too_few_views" : "fusion.empty_hull");
+    HULLPOSE_LOG(Fusion, Debug) << "frame dropped: " << to_string(r.failure) << " (" << r.carve.cameras_used << " cameras)";
+    r.skeleton.clear();
+    r.timings.total_ms = static_cast<double>(total.elapsed_us()) * 1e-3;
+    return r;
+  }
+
+  t.restart();
+  cleanup_.apply(r.hull, r.hull_stats);
+  r.timings.cleanup_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
+
+  t.restart();
+  r.skeleton = r.hull;  // same size: copies into the existing allocation
+  r.thin = options_.skeletoniser == Skeletoniser::kCk3 ? ck3_.thin(r.skeleton) : d6i1d_.thin(r.skeleton);
+  r.timings.thin_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
+
+  t.restart();
+  r.skeleton.for_each([&](int x, int y, int z) { r.skeleton_voxels.emplace_back(x, y, z); });
+  r.timings.extract_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
+  r.valid = true;
+  r.timings.total_ms = static_cast<double>(total.elapsed_us()) * 1e-3;
+  return r;
+}
+
+}  // namespace hullpose::fusion

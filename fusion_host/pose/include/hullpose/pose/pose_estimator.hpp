@@ -1,0 +1,77 @@
+#pragma once
+// The pose stage of the fusion host: curve-skeleton voxels of one frame in, 25 joints out.
+// Owns the tree builder and the model fitter, and the little the method keeps between frames:
+// the previous valid labelling (temporal correspondence of the extremities), the last fresh
+// pose (reused, flagged, when the tree is invalid or the pose jumps), and a running median of
+// the stature. Construct once per subject/stream; estimate() per frame; no allocation per
+// frame at steady state.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/pose/model_fit.hpp"
+#include "hullpose/pose/pose_tree.hpp"
+
+namespace hullpose::pose {
+
+struct PoseParams {
+  TreeParams tree;
+  FitParams fit;
+  // tau of paper 6: a fresh pose whose mean joint displacement from the last accepted pose
+  // exceeds this is a jump. A jump is accepted when the next frame agrees with it (the motion
+  // was real), and the check is skipped after `jump_memory_frames` frames without a fresh pose.
+  double jump_mean_mm = 150;
+  int jump_memory_frames = 5;
+  // Stature: running median over the valid frames; a frame whose own estimate is off the
+  // median by more than `stature_tolerance` (once `stature_settle_frames` frames are in) or
+  // outside the absolute bounds has a broken skeleton and counts as an invalid tree.
+  double stature_tolerance = 0.2;
+  int stature_settle_frames = 10;
+  double min_stature_mm = 800, max_stature_mm = 2500;
+};
+
+struct PoseEstimate {
+  bool valid = false;       // a fresh estimate of this frame
+  int8_t reason = 0;        // hullpose_msg::skeleton_t::REASON_*
+  const char* detail = "";  // static text behind the reason
+  JointPositions joints_mm{};               // common/joints.hpp order; the reused pose if !valid
+  std::array<float, kNumJoints> confidence{};  // 0 when no pose exists at all
+  bool has_pose = false;                    // false until the first fresh pose
+  double stature_mm = 0;                    // running estimate
+  double frame_stature_mm = 0;              // this frame's own estimate (0 without a valid tree)
+  int shake_iterations = 0;
+  int64_t tree_us = 0, fit_us = 0;          // stage timings
+};
+
+class PoseEstimator {
+ public:
+  static constexpr int kStatureWindow = 64;
+
+  explicit PoseEstimator(PoseParams params = {});
+  const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid);
+  const PoseEstimate& last() const { return out_; }
+  const LabelledTree& tree() const { return builder_.tree(); }
+  void reset();
+
+ private:
+  void reuse(int8_t reason, const char* detail);
+  double running_stature(double frame);
+
+  PoseParams params_;
+  PoseTreeBuilder builder_;
+  ModelFitter fitter_;
+  PoseEstimate out_;
+  TemporalHint hint_;
+  JointPositions accepted_{};   // last fresh pose
+  std::array<float, kNumJoints> accepted_confidence_{};
+  JointPositions pending_{};    // a rejected jump, kept to confirm against the next frame
+  bool has_accepted_ = false, has_pending_ = false;
+  int frames_since_accepted_ = 0;
+  std::array<double, kStatureWindow> stature_ring_{};
+  std::array<double, kStatureWindow> stature_scratch_{};
+  int stature_count_ = 0, stature_next_ = 0;
+};
+
+}  // namespace hullpose::pose

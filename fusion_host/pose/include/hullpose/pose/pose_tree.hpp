@@ -1,0 +1,156 @@
+#pragma once
+// Pose tree and body-part labels from curve-skeleton voxels (thesis paper 5).
+//
+// Lifecycle: construct once; call build() per frame. All buffers are owned and reused, so after
+// the first frames of a given size build() does not allocate.
+//
+// Steps (paper 5, algorithms 1-6, with the changes documented in pose_tree.cpp):
+//   1. breadth-first tree over 26-adjacency from the top-most voxel of the largest component,
+//      voxels side by side at the same depth collapsed into one node (thick CK3 parts);
+//   2. prune spurious leaf branches (anthropometric threshold relative to the longest path),
+//      then keep the five longest terminal branches (head, two hands, two feet);
+//   3. rank origin-node candidates (eq. 1-4) and label extremities by distance, or by temporal
+//      correspondence with the previous valid frame;
+//   4. segment into neck, torso, arms and legs;
+//   5. forward vector from the legs (alg. 5) and left/right from shoulder and hip lines (alg. 6);
+//   6. validity: see TreeParams and docs in pose_tree.cpp.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "hullpose/common/voxel_grid.hpp"
+
+namespace hullpose::pose {
+
+// The five extremities in the order the labelled tree reports them.
+enum class Extremity : uint8_t { Head, LHand, RHand, LFoot, RFoot };
+inline constexpr int kNumExtremities = 5;
+
+enum class Part : uint8_t { Unlabelled, Neck, Torso, LArm, RArm, LLeg, RLeg };
+
+struct TreeParams {
+  // Leaf branches shorter than this fraction of the longest path are spurious (the head branch
+  // is ~0.125 of it, so this stays well below every real limb).
+  double prune_ratio = 0.055;
+  // Scale of the "shortened limb" penalty of eq. 3-4, as a fraction of the longest path. The
+  // paper's 1/(1 + (dr - db)) has no unit; in mm it would punish a one-voxel offset as hard as a
+  // missing arm.
+  double branch_offset_ratio = 0.04;
+  // Junctions closer than this many voxels are one junction split by a 2-voxel-thick part.
+  double junction_merge_voxels = 3.5;
+  // Validity (replaces the paper's fixed rank threshold): the best labelling's geometric-mean
+  // rank factor and every single factor must reach these, the torso must exist, and the
+  // skeleton must not be too small for a person of the running stature.
+  double min_quality = 0.6;
+  double min_factor = 0.3;
+  // Left/right decisions with less angular margin than this defer to temporal correspondence
+  // when a previous valid frame exists.
+  double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
+  double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
+  // Algorithm 5: a joint normal counts only if the joint is bent by more than this.
+  double bend_min_deg = 12;
+};
+
+// What the previous valid frame tells the next one.
+struct TemporalHint {
+  bool valid = false;
+  std::array<Eigen::Vector3d, kNumExtremities> extremity_mm{};
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitY();
+};
+
+struct LabelledTree {
+  bool valid = false;
+  const char* why = "";  // static text: why the tree is not valid
+
+  // Every node of the tree, in breadth-first order from the root (top-most voxel).
+  std::vector<Eigen::Vector3d> position;  // mm, voxel centres
+  std::vector<int32_t> parent;            // -1 at the root
+  std::vector<Part> part;
+
+  int32_t origin = -1;  // arms, neck and torso meet here
+  int32_t pelvis = -1;  // legs meet the torso here
+  std::array<int32_t, kNumExtremities> extremity{};  // node ids in Extremity order
+  // Node paths from each extremity to its junction (origin for head and hands, pelvis for feet),
+  // extremity first, junction last; torso path from origin to pelvis.
+  std::array<std::vector<int32_t>, kNumExtremities> limb_path;
+  std::vector<int32_t> torso_path;
+
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();       // torso direction, pelvis -> origin
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitY();  // facing, orthogonal to up
+  Eigen::Vector3d left = -Eigen::Vector3d::UnitX();    // up x forward
+  double voxel_mm = 0;
+  double longest_path_mm = 0;
+  double quality = 0;                                 // geometric mean of rank factors, 0..1
+  std::array<double, kNumExtremities> limb_score{};   // rank factor per extremity, 0..1
+  double lr_margin_deg = 0;  // arms: algorithm 6's angular margin
+  double leg_margin_mm = 0;  // legs: lateral separation of the thighs
+  bool used_temporal_labels = false;
+  bool forward_from_previous = false;
+};
+
+class PoseTreeBuilder {
+ public:
+  explicit PoseTreeBuilder(TreeParams params = {});
+  // Builds and labels the tree of one frame's skeleton voxels. `hint` carries the previous
+  // valid frame (temporal correspondence); pass an invalid hint on the first frame. Voxels
+  // outside the grid or repeated are ignored. Never throws on bad data: an unusable skeleton
+  // gives an invalid tree with a reason.
+  const LabelledTree& build(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
+                            const TemporalHint& hint);
+  const LabelledTree& tree() const { return tree_; }
+
+ private:
+  struct Branch {
+    int32_t end;       // endpoint node
+    int32_t junction;  // first node of degree >= 3 (or the other end of a bare path)
+    double length;     // mm, endpoint to junction
+  };
+  struct Ranked {
+    double rank = 0, quality = 0;
+    int32_t origin = -1;
+    std::array<int32_t, kNumExtremities> ends{};  // Head, hand, hand, foot, foot (endpoint idx)
+    std::array<double, kNumExtremities> factor{};
+  };
+
+  void grow_tree(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
+  void distances_from(int32_t source, bool alive_only);
+  double longest_path();
+  void collect_branches();
+  bool prune(double longest);
+  Ranked rank_candidate(int32_t candidate, const std::array<int32_t, kNumExtremities>& ends,
+                        double longest) const;
+  Ranked best_structural(double longest);
+  Ranked best_for_assignment(const std::array<int32_t, kNumExtremities>& ends, double longest);
+  std::array<int32_t, kNumExtremities> temporal_assignment(const TemporalHint& hint) const;
+  void walk_path(int32_t from, int32_t to, std::vector<int32_t>& out) const;
+  void label_parts();
+  bool orient(const TemporalHint& hint, double stature);
+  Eigen::Vector3d path_direction(const std::vector<int32_t>& path, double from_mm, double to_mm,
+                                 bool from_junction) const;
+  double path_length(const std::vector<int32_t>& path) const;
+  void invalidate(const char* why);
+
+  TreeParams params_;
+  LabelledTree tree_;
+  VoxelGridSpec grid_;
+  std::vector<int32_t> lookup_;     // grid index -> input voxel index, -1 elsewhere
+  std::vector<int32_t> component_;  // per input voxel: connected component
+  std::vector<int32_t> depth_;      // per input voxel: breadth-first depth from the root
+  std::vector<int32_t> cluster_;    // per input voxel: tree node
+  std::vector<int32_t> stack_;
+  std::vector<int32_t> adj_begin_, adj_;  // tree adjacency (CSR)
+  std::vector<uint8_t> alive_;
+  std::vector<int32_t> degree_;
+  std::vector<double> dist_;
+  std::vector<int32_t> via_;  // parent in the last distances_from() traversal
+  std::vector<int32_t> queue_;
+  std::vector<uint8_t> mark_;
+  std::vector<Branch> branches_;
+  std::vector<int32_t> junctions_;
+  std::vector<int32_t> ends_;  // the five endpoints after pruning
+  std::array<double, kNumExtremities> end_branch_{};  // db per endpoint
+};
+
+}  // namespace hullpose::pose

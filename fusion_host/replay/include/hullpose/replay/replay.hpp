@@ -1,0 +1,39 @@
+#pragma once
+// Offline pipeline of the fusion host: a dataset on disk (docs/conventions.md) through
+// carve -> thin -> pose tree -> fit, frame by frame, into the estimate file hullpose-eval reads,
+// with per-stage timings beside it. The same stages as the live service, minus the network.
+#include <filesystem>
+#include <span>
+#include <string_view>
+
+#include "hullpose/fusion/fusion_core.hpp"
+#include "hullpose/pose/pose_estimator.hpp"
+
+namespace hullpose::replay {
+
+struct ReplayOptions {
+  std::filesystem::path dataset;
+  std::filesystem::path out;      // estimate CSV
+  std::filesystem::path timings;  // per-frame stage timings CSV; default: <out>.timings.csv
+  int max_frames = -1;            // all frames of meta.json when negative
+  fusion::FusionOptions fusion;
+  pose::PoseParams pose;
+};
+
+struct ReplaySummary {
+  int frames = 0, valid = 0;
+  // Medians over all frames, milliseconds.
+  double carve_ms = 0, thin_ms = 0, fusion_ms = 0, tree_ms = 0, fit_ms = 0, total_ms = 0;
+  double stature_mm = 0;  // the pose stage's running estimate at the end
+};
+
+// Throws hullpose::Error on a dataset that cannot be read (rig, meta, an unreadable mask).
+ReplaySummary run_replay(const ReplayOptions& options);
+
+// `hullpose-fusion-host --replay DIR --out FILE [...]`: parses `args` (without argv[0]),
+// runs, prints a one-line JSON summary on stdout. Returns the exit status; throws
+// hullpose::Error on a bad command line.
+int replay_cli(std::span<const std::string_view> args);
+bool is_replay_command(std::span<const std::string_view> args);
+
+}  // namespace hullpose::replay

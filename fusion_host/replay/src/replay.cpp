@@ -1,0 +1,152 @@
+#include "hullpose/replay/replay.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
+
+#include "hullpose/common/check.hpp"
+#include "hullpose/common/dataset.hpp"
+#include "hullpose/common/log.hpp"
+#include "hullpose/common/rig.hpp"
+
+namespace hullpose::replay {
+
+HULLPOSE_LOG_CATEGORY(Replay, "replay")
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+int parse_int(std::string_view flag, std::string_view value) {
+  int out = 0;
+  const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
+  HULLPOSE_THROW_UNLESS(ec == std::errc() && ptr == value.data() + value.size(),
+                        flag << ": expected an integer, got '" << value << "'");
+  return out;
+}
+
+}  // namespace
+
+ReplaySummary run_replay(const ReplayOptions& options) {
+  const DatasetPaths paths(options.dataset);
+  const Rig rig = load_rig(paths.rig());
+  const DatasetMeta meta = read_meta(paths.meta());
+  const int frames = options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
+
+  Counters counters;
+  fusion::FusionCore core(rig, options.fusion, &counters);
+  pose::PoseEstimator estimator(options.pose);
+  EstimateWriter writer(options.out);
+  const std::filesystem::path timings_path =
+      options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv") : options.timings;
+  std::ofstream timings(timings_path);
+  HULLPOSE_THROW_UNLESS(timings, timings_path << ": cannot open for writing");
+  timings << "frame,valid,reason,carve_ms,cleanup_ms,thin_ms,fusion_ms,tree_ms,fit_ms,total_ms,skeleton_voxels,"
+             "stature_mm\n";
+
+  std::vector<cv::Mat> views(rig.cameras.size());
+  ReplaySummary summary;
+  std::vector<double> carve, thin, fused, tree, fit, total;
+  PoseRecord record;
+  for (int f = 0; f < frames; ++f) {
+    for (size_t c = 0; c < rig.cameras.size(); ++c) {
+      const std::filesystem::path mask = paths.mask(rig.cameras[c].id, f);
+      if (!std::filesystem::exists(mask)) {
+        views[c].release();  // the camera sent nothing this frame
+        continue;
+      }
+      views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
+      HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
+    }
+    const fusion::FusionResult& hull = core.process(views);
+    const pose::PoseEstimate& pose = hull.valid ? estimator.estimate(hull.skeleton_voxels, hull.grid)
+                                                : estimator.estimate({}, hull.grid);
+    record.frame = f;
+    record.valid = pose.valid;
+    record.reason = pose.reason;
+    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews) record.reason = 1;  // REASON_TOO_FEW_CAMERAS
+    record.joints = pose.joints_mm;
+    writer.write(record);
+
+    const double tree_ms = pose.tree_us * 1e-3, fit_ms = pose.fit_us * 1e-3;
+    carve.push_back(hull.timings.carve_ms);
+    thin.push_back(hull.timings.thin_ms);
+    fused.push_back(hull.timings.total_ms);
+    tree.push_back(tree_ms);
+    fit.push_back(fit_ms);
+    total.push_back(hull.timings.total_ms + tree_ms + fit_ms);
+    timings << f << ',' << pose.valid << ',' << int{record.reason} << ',' << hull.timings.carve_ms << ','
+            << hull.timings.cleanup_ms << ',' << hull.timings.thin_ms << ',' << hull.timings.total_ms << ','
+            << tree_ms << ',' << fit_ms << ',' << total.back() << ',' << hull.skeleton_voxels.size() << ','
+            << pose.stature_mm << '\n';
+    summary.valid += pose.valid;
+    if (!pose.valid) {
+      HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
+    }
+  }
+  writer.flush();
+  summary.frames = frames;
+  summary.carve_ms = median(carve);
+  summary.thin_ms = median(thin);
+  summary.fusion_ms = median(fused);
+  summary.tree_ms = median(tree);
+  summary.fit_ms = median(fit);
+  summary.total_ms = median(total);
+  summary.stature_mm = estimator.last().stature_mm;
+  return summary;
+}
+
+bool is_replay_command(std::span<const std::string_view> args) {
+  return std::find(args.begin(), args.end(), "--replay") != args.end();
+}
+
+int replay_cli(std::span<const std::string_view> args) {
+  ReplayOptions options;
+  options.fusion.resolution = 128;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string_view flag = args[i];
+    auto value = [&]() -> std::string_view {
+      HULLPOSE_THROW_UNLESS(i + 1 < args.size(), flag << " needs a value");
+      return args[++i];
+    };
+    if (flag == "--replay") {
+      options.dataset = value();
+    } else if (flag == "--out") {
+      options.out = value();
+    } else if (flag == "--timings") {
+      options.timings = value();
+    } else if (flag == "--resolution") {
+      options.fusion.resolution = parse_int(flag, value());
+    } else if (flag == "--frames") {
+      options.max_frames = parse_int(flag, value());
+    } else if (flag == "--threads") {
+      options.fusion.threads = parse_int(flag, value());
+    } else if (flag == "--skeletoniser") {
+      const std::string_view v = value();
+      HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
+      options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+    } else {
+      HULLPOSE_THROW("unknown option '" << flag
+                                        << "' (usage: --replay DIR --out FILE [--resolution N] [--frames N] "
+                                           "[--threads N] [--skeletoniser ck3|d6i1d] [--timings FILE])");
+    }
+  }
+  HULLPOSE_THROW_UNLESS(!options.dataset.empty() && !options.out.empty(), "--replay DIR and --out FILE are both needed");
+  const ReplaySummary s = run_replay(options);
+  std::printf(
+      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, \"thin\": %.3f, "
+      "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",
+      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms, s.total_ms);
+  return 0;
+}
+
+}  // namespace hullpose::replay

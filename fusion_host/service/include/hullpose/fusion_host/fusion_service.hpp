@@ -1,0 +1,90 @@
+#pragma once
+// The fusion host's live loop: SILHOUETTE and TRIGGER in (raw bytes, checked before decoding),
+// frames assembled per trigger sequence, the pipeline run on each frame with enough views,
+// SKELETON out for every closed frame (valid or with its reason) with the latency breakdown
+// trigger -> capture -> node done -> received -> fused -> published, and STATUS once a second.
+// Single-threaded: one loop owns the LCM handle, the assembler and the pipeline.
+#include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <hullpose_msg/node_status_t.hpp>
+#include <hullpose_msg/skeleton_t.hpp>
+#include <hullpose_msg/trigger_t.hpp>
+
+#include "hullpose/common/counters.hpp"
+#include "hullpose/fusion_host/frame_assembler.hpp"
+#include "hullpose/fusion_host/frame_pipeline.hpp"
+
+namespace hullpose::fusion {
+
+struct ServiceConfig {
+  AssemblerConfig assembler;
+  int64_t status_period_us = 1'000'000;
+  std::string silhouette_channel = "SILHOUETTE";
+  std::string trigger_channel = "TRIGGER";
+  std::string skeleton_channel = "SKELETON";
+  std::string status_channel = "STATUS";
+};
+
+class FusionService {
+ public:
+  FusionService(lcm::LCM& bus, const Rig& rig, FramePipeline& pipeline, const ServiceConfig& config);
+  ~FusionService();
+  FusionService(const FusionService&) = delete;
+  FusionService& operator=(const FusionService&) = delete;
+
+  // Handles every message that arrives within timeout_ms (returning early once the next frame
+  // deadline passes), closes the frames that are due, publishes STATUS when due.
+  void step(int timeout_ms);
+  // step() until keep_going() is false, then closes the open frames.
+  void run(const std::function<bool()>& keep_going);
+  void flush();
+
+  const Counters& counters() const { return counters_; }
+  const FrameAssembler& assembler() const { return assembler_; }
+  int64_t skeletons_published() const { return published_; }
+
+ private:
+  void on_silhouette(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void on_frame(const AssembledFrame& frame);
+  void publish_status(int64_t now_us);
+
+  lcm::LCM& bus_;
+  const Rig& rig_;
+  FramePipeline& pipeline_;
+  ServiceConfig config_;
+  FrameAssembler assembler_;
+  std::vector<lcm::Subscription*> subscriptions_;
+  hullpose_msg::skeleton_t skeleton_;
+  hullpose_msg::trigger_t trigger_;
+  PoseEstimate estimate_;
+  std::vector<uint8_t> buffer_;
+  Counters counters_;
+  int64_t published_ = 0;
+  int64_t last_seq_ = -1;
+  // STATUS interval accounting
+  int64_t next_status_us_ = 0;
+  int64_t interval_frames_ = 0;
+  int64_t interval_pipeline_us_ = 0;
+  int64_t interval_start_us_ = 0;
+};
+
+// Options of the pipeline on a fusion host's command line.
+struct PipelineOptions {
+  int resolution = 64;  // --resolution N: voxels along the capture volume's longest axis
+  int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
+};
+
+// The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
+// --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
+// --duration-s S, --ready-file FILE, and the PipelineOptions): builds the pipeline with
+// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
+// Returns the process exit code; errors print "<tool>: error: ..." and return 2.
+int service_main(int argc, char** argv, const char* tool,
+                 const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline);
+
+}  // namespace hullpose::fusion

@@ -1,0 +1,159 @@
+// Carving: the hierarchical fast path equals the brute-force reference voxel for voxel; k-of-n
+// tolerance, missing and malformed views.
+#include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "hullpose/carve/carver.hpp"
+#include "support/synthetic_scene.hpp"
+
+using namespace hullpose;
+using fusion::BitGrid;
+namespace ft = hullpose::fusion::testing;
+
+namespace {
+
+BitGrid fast(carve::Carver& c, const std::vector<cv::Mat>& views, carve::CarveReport* out = nullptr) {
+  BitGrid hull;
+  carve::CarveReport report;
+  c.carve(views, hull, report);
+  if (out) *out = report;
+  return hull;
+}
+BitGrid brute(const carve::Carver& c, const std::vector<cv::Mat>& views) {
+  BitGrid hull;
+  carve::CarveReport report;
+  c.carve_brute_force(views, hull, report);
+  return hull;
+}
+
+}  // namespace
+
+TEST_CASE("VoxelProjector is CameraModel::project rounded to the nearest pixel") {
+  const Rig rig = ft::thesis_like_rig();
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1200, 1200), h(0, 2200);
+  for (const CameraModel& cam : rig.cameras) {
+    const carve::VoxelProjector p(cam);
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector3d w(u(rng), u(rng), h(rng));
+      const auto ref = cam.project(w);
+      int px = -1, py = -1;
+      const bool in = p.pixel(w, px, py);
+      REQUIRE(ref.has_value());
+      const bool ref_in = ref->x() >= -0.5 && ref->y() >= -0.5 && ref->x() < cam.width - 0.5 && ref->y() < cam.height - 0.5;
+      REQUIRE(in == ref_in);
+      if (in) {
+        CHECK(px == static_cast<int>(std::floor(ref->x() + 0.5)));
+        CHECK(py == static_cast<int>(std::floor(ref->y() + 0.5)));
+      }
+    }
+  }
+}
+
+TEST_CASE("fast carving equals brute force at 64³ and 128³") {
+  const Rig rig = ft::thesis_like_rig(320, 240);
+  for (int res : {64, 128}) {
+    for (int k : {0, 1}) {
+      carve::Carver carver(rig, {res, k, 2});
+      for (double phase : {0.1, 0.6}) {
+        INFO("resolution " << res << " k " << k << " phase " << phase);
+        const auto views = ft::render_views(rig, ft::human_capsules(phase, 3 * phase, {200 * phase, -100}));
+        carve::CarveReport report;
+        const BitGrid a = fast(carver, views, &report);
+        CHECK(report.valid);
+        CHECK(report.cameras_used == 8);
+        CHECK(report.voxels == a.count());
+        CHECK(a.count() > 1000);
+        CHECK(a == brute(carver, views));
+      }
+    }
+  }
+}
+
+TEST_CASE("fast carving equals brute force at 256³ (3 small cameras)") {
+  const Rig rig = ft::thesis_like_rig(200, 150, 3);
+  carve::Carver carver(rig, {256, 0, 2});
+  const auto views = ft::render_views(rig, ft::human_capsules(0.35));
+  const BitGrid a = fast(carver, views);
+  CHECK(a.count() > 10000);
+  CHECK(a == brute(carver, views));
+}
+
+TEST_CASE("the hull contains the body") {
+  const Rig rig = ft::thesis_like_rig(400, 300);
+  carve::Carver carver(rig, {64, 0, 1});
+  const auto body = ft::human_capsules(0.25, 0.4);
+  const BitGrid hull = fast(carver, ft::render_views(rig, body));
+  const BitGrid solid = ft::voxelise(carver.grid(), body);
+  size_t inside = 0;
+  solid.for_each([&](int x, int y, int z) { inside += hull.get(x, y, z); });
+  CHECK(inside >= solid.count() * 95 / 100);
+  CHECK(hull.count() < solid.count() * 4);
+}
+
+TEST_CASE("k-of-n tolerance: a dark camera and a noisy one") {
+  const Rig rig = ft::thesis_like_rig(320, 240);
+  const auto views = ft::render_views(rig, ft::human_capsules(0.5));
+  carve::Carver strict(rig, {64, 0, 1});
+  carve::Carver tolerant(rig, {64, 1, 1});
+  const BitGrid clean = fast(strict, views);
+
+  SECTION("dark camera: all-but-one equals carving without that camera") {
+    auto dark = views;
+    dark[3] = cv::Mat::zeros(dark[3].size(), CV_8UC1);
+    CHECK(fast(strict, dark).count() == 0);
+    auto absent = views;
+    absent[3] = cv::Mat();
+    carve::CarveReport report;
+    const BitGrid without = fast(strict, absent, &report);
+    CHECK(report.missing_cameras == std::vector<int>{3});
+    CHECK(report.cameras_used == 7);
+    const BitGrid tol = fast(tolerant, dark);
+    CHECK(tol == without);
+    CHECK(tol == brute(tolerant, dark));
+  }
+  SECTION("noisy camera: holes and speckle lose the limb at k = 0, not at k = 1") {
+    auto noisy = views;
+    cv::Mat& m = noisy[2];
+    std::mt19937 rng(4);
+    std::uniform_int_distribution<int> px(0, m.cols - 1), py(0, m.rows - 1);
+    for (int i = 0; i < 3000; ++i) m.at<uint8_t>(py(rng), px(rng)) = static_cast<uint8_t>(i % 2 ? 255 : 0);
+    cv::rectangle(m, cv::Rect(0, m.rows / 2, m.cols, m.rows / 6), cv::Scalar(0), -1);  // a band of missed pixels
+    const BitGrid lost = fast(strict, noisy);
+    const BitGrid kept = fast(tolerant, noisy);
+    CHECK(lost.count() < clean.count());
+    // Every voxel of the clean hull misses at most the noisy camera: kept with k = 1.
+    size_t missing = 0;
+    clean.for_each([&](int x, int y, int z) { missing += !kept.get(x, y, z); });
+    CHECK(missing == 0);
+    CHECK(kept == brute(tolerant, noisy));
+    CHECK(lost == brute(strict, noisy));
+  }
+}
+
+TEST_CASE("missing, malformed and too few views are reported, never fused") {
+  const Rig rig = ft::thesis_like_rig(160, 120);
+  carve::Carver carver(rig, {64, 1, 1});
+  auto views = ft::render_views(rig, ft::human_capsules(0.1));
+  views[0] = cv::Mat();
+  views[5] = cv::Mat::zeros(10, 10, CV_8UC1);
+  views[6].convertTo(views[6], CV_16U);
+  carve::CarveReport report;
+  const BitGrid a = fast(carver, views, &report);
+  CHECK(report.valid);
+  CHECK(report.cameras_used == 5);
+  CHECK(report.missing_cameras == std::vector<int>{0});
+  CHECK(report.rejected_cameras == std::vector<int>{5, 6});
+  CHECK(a == brute(carver, views));
+
+  std::vector<cv::Mat> one(8);
+  one[2] = views[2];
+  fast(carver, one, &report);
+  CHECK_FALSE(report.valid);  // one camera with k = 1: every voxel would be kept
+  CHECK(report.voxels == 0);
+
+  CHECK_THROWS(carver.carve(std::vector<cv::Mat>(3), *std::make_unique<BitGrid>(), report));
+  CHECK_THROWS(carve::Carver(rig, {64, 8, 1}));
+  CHECK_THROWS(carve::Carver(rig, {4, 0, 1}));
+}

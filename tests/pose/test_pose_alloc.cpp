@@ -1,0 +1,51 @@
+// The pose stage does not allocate per frame at steady state: global operator new is counted
+// while a sequence of frames is estimated a second time.
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <new>
+
+#include "hullpose/pose/pose_estimator.hpp"
+#include "stick_figure.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace hullpose;
+using namespace hullpose::pose;
+using namespace hullpose::pose::test;
+
+TEST_CASE("no allocation per frame at steady state") {
+  const VoxelGridSpec g = grid_2m(128);
+  std::vector<std::vector<Eigen::Vector3i>> frames;
+  Limbs walk = t_pose();
+  walk.l_thigh = {0, 0.4, -1};
+  walk.r_thigh = {0, -0.3, -1};
+  walk.l_upper_arm = {0.3, -0.3, -1};
+  for (int f = 0; f < 12; ++f) {
+    auto voxels = rasterise(g, stick_figure(1750, f < 6 ? walk : t_pose(), {f * 4.0, 0, 0, 0}));
+    add_spurs(g, voxels, 10, 4, static_cast<uint32_t>(f + 1));
+    frames.push_back(std::move(voxels));
+  }
+  frames.push_back({});  // an empty frame on the way
+  PoseEstimator estimator;
+  for (const auto& f : frames) estimator.estimate(f, g);  // warm up: buffers grow to size
+  const long before = g_allocations.load();
+  int valid = 0;
+  for (const auto& f : frames) valid += estimator.estimate(f, g).valid;
+  const long during = g_allocations.load() - before;
+  CHECK(during == 0);
+  CHECK(valid >= 10);
+}

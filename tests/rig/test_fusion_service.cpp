@@ -1,0 +1,147 @@
+// The live service over LCM's in-process provider (memq://): assembly, the pipeline seam,
+// SKELETON with its latency breakdown and reasons, STATUS with the drop counters.
+#include <catch2/catch.hpp>
+#include <hullpose_msg/node_status_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+
+#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/common/time.hpp"
+#include "hullpose/fusion_host/fusion_service.hpp"
+#include "rig_fixtures.hpp"
+#include "seq_check_pipeline.hpp"
+
+using namespace hullpose;
+
+namespace {
+struct Sink {
+  std::map<int64_t, hullpose_msg::skeleton_t> skeletons;
+  std::vector<hullpose_msg::node_status_t> status;
+  void on_skeleton(const lcm::ReceiveBuffer* rb, const std::string&) {
+    REQUIRE(wire::skeleton_ok(rb->data, rb->data_size));
+    hullpose_msg::skeleton_t s;
+    REQUIRE(s.decode(rb->data, 0, static_cast<int>(rb->data_size)) == static_cast<int>(rb->data_size));
+    skeletons[s.trigger_seq] = s;
+  }
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::node_status_t* s) { status.push_back(*s); }
+};
+
+hullpose_msg::silhouette_t seq_silhouette(const Rig& rig, int cam, int64_t seq, int64_t utime) {
+  auto m = testing::make_silhouette(rig, cam, seq, utime);
+  cv::Mat mask(rig.find(cam)->height, rig.find(cam)->width, CV_8UC1);
+  testing::draw_seq_mask(mask, seq, cam);
+  const PixelRoi roi = SilhouetteEncoder().encode(mask, m.payload);
+  m.payload_size = static_cast<int32_t>(m.payload.size());
+  m.roi_x = roi.x;
+  m.roi_y = roi.y;
+  m.roi_width = roi.width;
+  m.roi_height = roi.height;
+  return m;
+}
+}  // namespace
+
+TEST_CASE("fusion service: every sequence is published, fused or with its reason, with latencies") {
+  const Rig rig = testing::make_rig(3, 120, 90);
+  lcm::LCM bus("memq://");
+  REQUIRE(bus.good());
+  testing::SeqCheckPipeline pipeline;
+  fusion::ServiceConfig cfg;
+  cfg.assembler.min_cameras = 2;
+  cfg.assembler.deadline_us = 5'000;
+  cfg.assembler.no_views_timeout_us = 5'000;
+  fusion::FusionService service(bus, rig, pipeline, cfg);
+  Sink sink;
+  bus.subscribe("SKELETON", &Sink::on_skeleton, &sink);
+  bus.subscribe("STATUS", &Sink::on_status, &sink);
+
+  const int64_t period = 33'333;
+  const int64_t t0 = realtime_utime() - 10 * period;
+  hullpose_msg::trigger_t trig{};
+  trig.rig_id = rig.rig_id;
+  trig.period_us = static_cast<int32_t>(period);
+  trig.epoch = 5;
+  for (int64_t seq = 0; seq < 8; ++seq) {
+    trig.seq = seq;
+    trig.utime = t0 + seq * period;
+    bus.publish("TRIGGER", &trig);
+    const int cams = seq < 5 ? 3 : seq == 5 ? 2 : seq == 6 ? 1 : 0;  // seq 7: announced, no views
+    for (int cam = 0; cam < cams; ++cam) {
+      auto m = seq_silhouette(rig, cam, seq, trig.utime);
+      bus.publish("SILHOUETTE", &m);
+    }
+  }
+  const uint8_t garbage[] = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  bus.publish("SILHOUETTE", garbage, sizeof(garbage));
+  bus.publish("TRIGGER", garbage, sizeof(garbage));
+  for (int i = 0; i < 500 && sink.skeletons.size() < 8; ++i) service.step(10);
+  service.flush();
+  for (int i = 0; i < 10; ++i) service.step(1);
+
+  REQUIRE(sink.skeletons.size() == 8);
+  for (int64_t seq = 0; seq < 8; ++seq) {
+    const auto& s = sink.skeletons.at(seq);
+    INFO("seq " << seq);
+    CHECK(s.rig_id == rig.rig_id);
+    CHECK(s.utime == t0 + seq * period);
+    CHECK(s.num_joints == 25);
+    CHECK(s.joint_name[0] == "HeadTop");
+    CHECK(s.joint_name[24] == "RToe");
+    if (seq <= 5) {
+      CHECK(s.valid);
+      CHECK(s.reason == hullpose_msg::skeleton_t::REASON_OK);
+      CHECK(s.position[0][0] == static_cast<float>(seq));
+      CHECK(s.num_cameras_used == (seq < 5 ? 3 : 2));
+      CHECK(s.cameras_used_mask == (seq < 5 ? 0b111 : 0b011));
+      CHECK(s.capture_us == 300);
+      CHECK(s.node_done_us == 5000);
+      CHECK(s.received_us >= s.node_done_us);
+      CHECK(s.fused_us >= s.received_us);
+      CHECK(s.published_us >= s.fused_us);
+    } else {
+      CHECK_FALSE(s.valid);
+      CHECK(s.reason == hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS);
+      CHECK(s.num_cameras_used == (seq == 6 ? 1 : 0));
+    }
+  }
+  CHECK(pipeline.frames == 6);
+  CHECK(service.assembler().counters().get("malformed_lcm") == 1);
+  CHECK(service.counters().get("malformed_trigger") == 1);
+  REQUIRE_FALSE(sink.status.empty());
+  const auto& st = sink.status.back();
+  CHECK(st.role == "fusion_host");
+  CHECK(st.state == hullpose_msg::node_status_t::STATE_DEGRADED);
+  CHECK(st.frames_total == 8);
+  std::map<std::string, int64_t> counters;
+  for (int i = 0; i < st.num_counters; ++i) counters[st.counter_name[static_cast<size_t>(i)]] = st.counter_value[static_cast<size_t>(i)];
+  CHECK(counters["fused_complete"] == 5);
+  CHECK(counters["fused_partial"] == 1);
+  CHECK(counters["too_few_cameras"] == 1);
+  CHECK(counters["no_views"] == 1);
+  CHECK(counters["malformed_lcm"] == 1);
+}
+
+TEST_CASE("views laid out by camera index for carving") {
+  const Rig rig = testing::make_rig(4, 40, 30);
+  std::vector<cv::Mat> masks;
+  std::vector<PixelRoi> rois;
+  int calls = 0;
+  fusion::FrameAssembler fa(rig, {}, [&](const fusion::AssembledFrame& f) {
+    ++calls;
+    fusion::views_by_camera_index(f, rig.cameras.size(), masks, rois);
+    REQUIRE(masks.size() == 4);
+    CHECK(masks[1].empty());
+    CHECK(rois[1] == PixelRoi{});
+    for (size_t i : {size_t{0}, size_t{2}, size_t{3}}) {
+      CHECK(masks[i].size() == cv::Size(40, 30));
+      CHECK(masks[i].data == f.views[i == 0 ? 0 : i - 1].mask->data);  // shared, not copied
+      CHECK(rois[i].width > 0);
+    }
+  });
+  const int64_t u = realtime_utime();
+  for (int cam : {0, 2, 3}) {
+    auto m = testing::make_silhouette(rig, cam, 1, u);
+    fa.on_silhouette(m, u, 0);
+  }
+  fa.flush();
+  CHECK(calls == 1);
+}

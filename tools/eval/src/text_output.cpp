@@ -1,0 +1,191 @@
+// JSON, text-table and per-frame CSV output of an EvalResult.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "format.hpp"
+#include "hullpose/common/check.hpp"
+#include "hullpose/eval/report.hpp"
+
+namespace hullpose::eval {
+namespace {
+
+std::string json_num(double v) {
+  return fixed(v, 3, "null");
+}
+
+// Writes "key":value pairs separated by commas.
+class JsonObject {
+ public:
+  explicit JsonObject(std::ostream& out) : out_(out) { out_ << '{'; }
+  ~JsonObject() { out_ << '}'; }
+  JsonObject(const JsonObject&) = delete;
+  JsonObject& operator=(const JsonObject&) = delete;
+  std::ostream& key(std::string_view k) {
+    out_ << (first_ ? "" : ",") << '"' << k << "\":";
+    first_ = false;
+    return out_;
+  }
+  void number(std::string_view k, double v) { key(k) << json_num(v); }
+  void integer(std::string_view k, long long v) { key(k) << v; }
+  void vec3(std::string_view k, const Eigen::Vector3d& v) {
+    key(k) << "{\"x\":" << json_num(v.x()) << ",\"y\":" << json_num(v.y())
+           << ",\"z\":" << json_num(v.z()) << '}';
+  }
+
+ private:
+  std::ostream& out_;
+  bool first_ = true;
+};
+
+void box_fields(JsonObject& o, const std::string& prefix, const BoxStats& b) {
+  o.number(prefix + "_std_mm", b.std);
+  o.number(prefix + "_median_mm", b.median);
+  o.number(prefix + "_max_mm", b.max);
+}
+
+}  // namespace
+
+void write_json(std::ostream& out, const EvalResult& r) {
+  {
+    JsonObject o(out);
+    o.integer("frames", r.frames);
+    o.integer("scored_frames", r.scored_frames);
+    o.integer("invalid_frames", r.invalid_frames);
+    o.integer("missing_frames", r.missing_frames);
+    {
+      JsonObject reasons(o.key("invalid_reasons"));
+      for (const auto& [code, count] : r.invalid_reasons) reasons.integer(reason_name(code), count);
+    }
+    o.number("valid_pct", r.valid_pct);
+    o.number("mpjpe_mm", r.all_joints.mean);
+    box_fields(o, "mpjpe", r.all_joints);
+    o.number("extremity_mpjpe_mm", r.extremities.mean);
+    box_fields(o, "extremity", r.extremities);
+    o.number("hands_feet_mpjpe_mm", r.hands_feet.mean);
+    box_fields(o, "hands_feet", r.hands_feet);
+    o.number("frame_mpjpe_std_mm", r.frame_mean.std);
+    o.number("frame_mpjpe_median_mm", r.frame_mean.median);
+    o.number("frame_mpjpe_max_mm", r.frame_mean.max);
+    if (r.scored_frames > 0)
+      o.integer("worst_frame", r.worst_frame);
+    else
+      o.key("worst_frame") << "null";
+    o.number("frame_hands_feet_std_mm", r.frame_hands_feet.std);
+    o.number("frame_hands_feet_median_mm", r.frame_hands_feet.median);
+    o.number("pck50_pct", r.pck50_pct);
+    o.number("pck100_pct", r.pck100_pct);
+    o.number("pck50_valid_pct", r.pck50_valid_pct);
+    o.number("pck100_valid_pct", r.pck100_valid_pct);
+    o.number("lr_correct_pct", r.lr_correct_pct);
+    o.number("lr_arms_correct_pct", r.lr_arms_correct_pct);
+    o.number("lr_legs_correct_pct", r.lr_legs_correct_pct);
+    o.number("stature_mm", r.stature_meta_mm);
+    o.number("stature_gt_mm", r.stature_gt_mm);
+    o.number("stature_est_mm", r.stature_est_mm);
+    o.number("stature_est_std_mm", r.stature_est_std_mm);
+    o.number("stature_error_mm", r.stature_error_mm);
+    o.number("stature_error_meta_mm", r.stature_error_meta_mm);
+    o.vec3("axis_abs_mm", r.axis_abs_mm);
+    o.vec3("axis_bias_mm", r.axis_bias_mm);
+    JsonObject joints(o.key("per_joint"));
+    for (size_t j = 0; j < kNumJoints; ++j) {
+      const BoxStats& b = r.per_joint[j];
+      JsonObject jo(joints.key(kJointNames[j]));
+      jo.number("mean_mm", b.mean);
+      jo.number("std_mm", b.std);
+      jo.number("median_mm", b.median);
+      jo.number("q1_mm", b.q1);
+      jo.number("q3_mm", b.q3);
+      jo.number("max_mm", b.max);
+      jo.integer("outliers", static_cast<long long>(b.outliers.size()));
+    }
+  }
+  out << '\n';
+}
+
+void write_table(std::ostream& out, const EvalResult& r, const ReportSource& source) {
+  char line[160];
+  auto row = [&](const char* label, const std::string& value) {
+    std::snprintf(line, sizeof line, "  %-34s %s\n", label, value.c_str());
+    out << line;
+  };
+  auto mm = [](double v) { return fixed(v, 1, "-") + " mm"; };
+  auto pc = [](double v) { return fixed(v, 1, "-") + " %"; };
+  auto stats = [&](const BoxStats& b) {
+    return fixed(b.mean, 1, "-") + " mm   (std " + fixed(b.std, 1, "-") + ", median " +
+           fixed(b.median, 1, "-") + ", max " + fixed(b.max, 1, "-") + ")";
+  };
+
+  out << "hullpose-eval  " << source.estimate << "  vs  " << source.dataset;
+  if (!source.motion.empty()) out << "  (" << source.motion << ")";
+  out << "\n\nFrames\n";
+  row("ground-truth frames", std::to_string(r.frames));
+  row("scored (estimate valid)", std::to_string(r.scored_frames) + "   (" + pc(r.valid_pct) + ")");
+  std::string invalid = std::to_string(r.invalid_frames);
+  for (const auto& [code, count] : r.invalid_reasons)
+    invalid += "   " + reason_name(code) + "=" + std::to_string(count);
+  row("invalid (estimate valid=0)", invalid);
+  row("missing from the estimate file", std::to_string(r.missing_frames));
+
+  out << "\nJoint error over scored frames\n";
+  row("all joints (MPJPE)", stats(r.all_joints));
+  row("extremities (head, hands, feet)", stats(r.extremities));
+  row("hands and feet (thesis Fig. 6.1)", stats(r.hands_feet));
+  row("per-frame mean, all joints",
+      stats(r.frame_mean) +
+          (r.scored_frames > 0 ? "  worst frame " + std::to_string(r.worst_frame) : ""));
+  row("per-frame mean, hands and feet", stats(r.frame_hands_feet));
+  row("mean |error| x / y / z", fixed(r.axis_abs_mm.x(), 1, "-") + " / " +
+                                    fixed(r.axis_abs_mm.y(), 1, "-") + " / " +
+                                    fixed(r.axis_abs_mm.z(), 1, "-") + " mm");
+  row("mean signed error x / y / z", fixed(r.axis_bias_mm.x(), 1, "-") + " / " +
+                                         fixed(r.axis_bias_mm.y(), 1, "-") + " / " +
+                                         fixed(r.axis_bias_mm.z(), 1, "-") + " mm");
+  row("PCK@50 mm / @100 mm, all frames", pc(r.pck50_pct) + " / " + pc(r.pck100_pct));
+  row("PCK@50 mm / @100 mm, scored frames", pc(r.pck50_valid_pct) + " / " + pc(r.pck100_valid_pct));
+  row("left/right correct (arms, legs)", pc(r.lr_correct_pct) + "   (" + pc(r.lr_arms_correct_pct) +
+                                             ", " + pc(r.lr_legs_correct_pct) + ")");
+
+  out << "\nStature\n";
+  row("true (meta.json)", mm(r.stature_meta_mm));
+  row("of the ground-truth joints", mm(r.stature_gt_mm));
+  row("of the estimated joints",
+      mm(r.stature_est_mm) + "   (std " + fixed(r.stature_est_std_mm, 1, "-") + ")");
+  row("error vs ground-truth joints", mm(r.stature_error_mm));
+  row("error vs true stature", mm(r.stature_error_meta_mm));
+
+  out << "\nPer joint (mm)     mean      std   median       q1       q3      max  outliers\n";
+  for (size_t j = 0; j < kNumJoints; ++j) {
+    const BoxStats& b = r.per_joint[j];
+    std::snprintf(line, sizeof line, "  %-12s %8s %8s %8s %8s %8s %8s  %8zu\n",
+                  kJointNames[j].data(), fixed(b.mean, 1, "-").c_str(),
+                  fixed(b.std, 1, "-").c_str(), fixed(b.median, 1, "-").c_str(),
+                  fixed(b.q1, 1, "-").c_str(), fixed(b.q3, 1, "-").c_str(),
+                  fixed(b.max, 1, "-").c_str(), b.outliers.size());
+    out << line;
+  }
+}
+
+void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r) {
+  std::ofstream out(path);
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
+  out << "frame,status,reason,mean_mm,extremity_mm,hands_feet_mm,abs_x_mm,abs_y_mm,abs_z_mm,"
+         "bias_x_mm,bias_y_mm,bias_z_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_"
+         "mm\n";
+  for (const FrameResult& f : r.per_frame) {
+    out << f.frame << ',' << to_string(f.status) << ','
+        << (f.status == FrameStatus::Missing ? "" : reason_name(f.reason));
+    const bool scored = f.status == FrameStatus::Scored;
+    for (double v :
+         {f.mean_mm, f.extremity_mm, f.hands_feet_mm, f.axis_abs_mm.x(), f.axis_abs_mm.y(),
+          f.axis_abs_mm.z(), f.axis_bias_mm.x(), f.axis_bias_mm.y(), f.axis_bias_mm.z()})
+      out << ',' << fixed(v, 3, "");
+    out << ',' << (scored ? (f.lr_arms_correct ? "1" : "0") : "") << ','
+        << (scored ? (f.lr_legs_correct ? "1" : "0") : "") << ',' << fixed(f.stature_gt_mm, 3, "")
+        << ',' << fixed(f.stature_est_mm, 3, "") << '\n';
+  }
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
+}
+
+}  // namespace hullpose::eval
