@@ -177,6 +177,7 @@ void CameraNode::stop() {
   if (started_) {
     source_->stop();
     started_ = false;
+    publisher_->flush();  // the final STATUS counts every silhouette sent
     maybe_publish_status(true, hullpose_msg::node_status_t::STATE_STOPPED, "stopped");
   }
   publisher_->flush();
