@@ -96,7 +96,7 @@ TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates not
   test::write_dataset(dir, test::small_synth({160, 120}, kFrames, 10, 1), 0);
   NodeConfig config = load_node_config(test::write_node_config(dir, 0, "sobs", "memq://"));
   config.lcm.status_period_ms = 600000;  // no STATUS (built once a period) inside the measurement
-  config.lcm.queue_depth = 2;
+  config.lcm.queue_depth = 32;  // no drops: every frame of both passes fits
   config.post.open_radius = config.post.close_radius = 0;
   config.post.min_blob_area = 0;
   config.source.params.set("preload", "true");

@@ -14,11 +14,12 @@ using namespace hullpose::camera_node;
 
 namespace {
 
-test::SynthSequence small_sequence(uint64_t seed, int frames = 8) {
+// Small sizes and few frames: this also runs under AddressSanitizer in a Debug build.
+test::SynthSequence small_sequence(uint64_t seed, int frames = 5) {
   test::SynthSequenceOptions o;
   o.size = {320, 240};
   o.seed = seed;
-  o.background_frames = 20;
+  o.background_frames = 12;
   o.frames = frames;
   o.drift = 0.12;
   o.shadow_strength = 0.6;
@@ -78,9 +79,9 @@ TEST_CASE("an empty scene gives an (almost) empty mask") {
 
 TEST_CASE("Horprasert labels the cast shadow as shadow, not foreground") {
   test::SynthSequenceOptions o;
-  o.size = {640, 480};
-  o.background_frames = 20;
-  o.frames = 6;
+  o.size = {320, 240};
+  o.background_frames = 12;
+  o.frames = 4;
   o.drift = 0;
   o.shadow_strength = 0.6;
   const test::SynthSequence seq = test::render_synth_sequence(o);
@@ -100,7 +101,7 @@ TEST_CASE("Horprasert labels the cast shadow as shadow, not foreground") {
     as_shadow += cv::countNonZero(shadowed & (h.classes() == Horprasert::kShadow));
     as_fg += cv::countNonZero(shadowed & (mask != 0));
   }
-  REQUIRE(shadowed_total > 200);
+  REQUIRE(shadowed_total > 50);
   CHECK(as_shadow > shadowed_total * 8 / 10);
   CHECK(as_fg < shadowed_total / 20);
 }

@@ -54,7 +54,9 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
   try {
     subtractor_ = make_subtractor(config_.bgs.method, config_.bgs.params);
   } catch (const Error& e) {
-    HULLPOSE_THROW(file << ": " << e.what());
+    const std::string what = e.what();
+    if (what.rfind(file, 0) == 0) throw;  // parameter errors name the file already
+    HULLPOSE_THROW(file << ": " << what);
   }
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
@@ -175,6 +177,7 @@ void CameraNode::stop() {
   if (started_) {
     source_->stop();
     started_ = false;
+    publisher_->flush();  // the final STATUS counts every silhouette sent
     maybe_publish_status(true, hullpose_msg::node_status_t::STATE_STOPPED, "stopped");
   }
   publisher_->flush();

@@ -18,6 +18,10 @@ SilhouettePublisher::SilhouettePublisher(const LcmConfig& config, std::string ri
   counters_.add("publish_error", 0);
   ring_.resize(static_cast<size_t>(config.queue_depth));
   for (auto& m : ring_) {
+    // Room for any silhouette a person makes (a few kB) and then some, reserved now: which slot
+    // a frame lands in depends on the network thread's timing, so sizing on first use would
+    // allocate on the frame path whenever the ring wraps differently.
+    m.payload.reserve(64 * 1024);
     m.rig_id = rig_id_;
     m.camera_id = camera_id_;
     m.encoding = hullpose_msg::silhouette_t::ENCODING_RLE_V1;
