@@ -115,13 +115,14 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
     for (int v = 0; v < close_ups; ++v) {
       for (int attempt = 0; attempt < 200; ++attempt) {
         const double scale = attempt < 100 ? 1.0 : 0.5;  // fall back towards the centre
-        const Eigen::Vector2d target(c.width * (0.5 + scale * 0.32 * ((v % 3) - 1) + 0.04 * u(rng)),
-                                     c.height * (0.5 + scale * 0.32 * (((v / 3) % 3) - 1) + 0.04 * u(rng)));
+        const int cell = v % 9;
+        const Eigen::Vector2d target(c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * u(rng)),
+                                     c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * u(rng)));
         const Eigen::Vector2d xn = c.undistort_pixel(target);
-        const double dist = 1400 + 800 * (0.5 + 0.5 * u(rng));
+        const double dist = 1300 + 700 * (0.5 + 0.5 * u(rng));
         const Eigen::Vector3d centre_cam = dist * Eigen::Vector3d(xn.x(), xn.y(), 1).normalized();
-        const double tilt = (25 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
-        const double axis_angle = M_PI * u(rng);
+        const double tilt = (30 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
+        const double axis_angle = M_PI / 4 * (v % 4) + 0.2 * u(rng);  // tilt every way in turn
         const Eigen::Vector3d axis(std::cos(axis_angle), std::sin(axis_angle), 0);
         Eigen::Isometry3d cam_from_board = Eigen::Isometry3d::Identity();
         cam_from_board.linear() = Eigen::AngleAxisd(tilt, axis).toRotationMatrix() *
@@ -150,6 +151,23 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
   }
   plan.push_back({"floor", floor_board_pose(board)});
   return plan;
+}
+
+std::vector<cv::Point2f> project_board(const CameraModel& c, const BoardSpec& board,
+                                       const Eigen::Isometry3d& world_from_board, double noise_px,
+                                       std::mt19937& rng) {
+  const Eigen::Isometry3d cam_from_board = cam_pose(c) * world_from_board;
+  const Eigen::Vector3d centre = cam_from_board * board.centre_mm();
+  const Eigen::Vector3d z = cam_from_board.linear().col(2);
+  if (centre.z() <= 0 || z.dot(centre.normalized()) < std::cos(70 * kDeg)) return {};
+  if (!board_inside(c, board, world_from_board, 2)) return {};
+  std::normal_distribution<double> noise(0, noise_px);
+  std::vector<cv::Point2f> corners;
+  for (int k = 0; k < board.corner_count(); ++k) {
+    const Eigen::Vector2d p = *c.project(world_from_board * board.corner_mm(k));
+    corners.emplace_back(static_cast<float>(p.x() + noise(rng)), static_cast<float>(p.y() + noise(rng)));
+  }
+  return corners;
 }
 
 BoardRenderer::BoardRenderer(const Rig& rig, BoardSpec board, double corner_noise_px, double pixel_noise)

@@ -30,6 +30,13 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
 // The board on the floor, printed face up, its corner-grid centre at the world origin.
 Eigen::Isometry3d floor_board_pose(const BoardSpec& board);
 
+// The corners camera `c` would detect of a board at `world_from_board`, with Gaussian noise of
+// `noise_px` per axis; empty if the printed face is not seen head-on enough (within 70 degrees)
+// or the board is not wholly inside the image. The corner-level stand-in for render + detect.
+std::vector<cv::Point2f> project_board(const CameraModel& c, const BoardSpec& board,
+                                       const Eigen::Isometry3d& world_from_board, double noise_px,
+                                       std::mt19937& rng);
+
 class BoardRenderer {
  public:
   BoardRenderer(const Rig& rig, BoardSpec board, double corner_noise_px, double pixel_noise);

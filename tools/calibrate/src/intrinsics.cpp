@@ -110,6 +110,7 @@ ViewFeedback IntrinsicsCalibrator::add_view(const std::string& view, cv::Size im
       double rms = 0;
       try {
         live_ = run_opencv(all, rvecs, tvecs, live_errors_, rms);
+        check_determined(*live_, all.size());
         live_views_ = views_.size();
       } catch (const Error&) {
         live_.reset();  // degenerate so far; calibrate() says why
@@ -159,30 +160,34 @@ IntrinsicsCalibrator::Estimate IntrinsicsCalibrator::run_opencv(
   HULLPOSE_THROW_UNLESS(cv::checkRange(e.K) && cv::checkRange(e.dist),
                         "camera " << camera_id_ << ": intrinsic calibration diverged");
   per_view.assign(errors.begin<double>(), errors.end<double>());
-  // OpenCV 4.6 returns the per-view errors as RMS per corner coordinate pair; keep them as is.
-  const double fx = e.K.at<double>(0, 0), fy = e.K.at<double>(1, 1);
-  const double sfx = std_intrinsics.at<double>(0), sfy = std_intrinsics.at<double>(1);
-  const double scx = std_intrinsics.at<double>(2), scy = std_intrinsics.at<double>(3);
-  // Board orientations: Zhang's method needs views that are not all parallel.
+  // Per-view errors, like the returned RMS, are RMS distances (2D) per corner.
+  e.sigma = {std_intrinsics.at<double>(0), std_intrinsics.at<double>(1), std_intrinsics.at<double>(2),
+             std_intrinsics.at<double>(3)};
+  e.normals.clear();
+  for (const auto& r : rvecs) e.normals.push_back(isometry(r, cv::Mat::zeros(3, 1, CV_64F)).linear().col(2));
+  return e;
+}
+
+void IntrinsicsCalibrator::check_determined(const Estimate& e, size_t views) const {
+  // Zhang's method needs board orientations that are not all parallel.
   double spread = 0;
-  std::vector<Eigen::Vector3d> normals;
-  for (const auto& r : rvecs) normals.push_back(isometry(r, cv::Mat::zeros(3, 1, CV_64F)).linear().col(2));
-  for (size_t a = 0; a < normals.size(); ++a)
-    for (size_t b = a + 1; b < normals.size(); ++b)
-      spread = std::max(spread, std::acos(std::clamp(normals[a].dot(normals[b]), -1.0, 1.0)));
+  for (size_t a = 0; a < e.normals.size(); ++a)
+    for (size_t b = a + 1; b < e.normals.size(); ++b)
+      spread = std::max(spread, std::acos(std::clamp(e.normals[a].dot(e.normals[b]), -1.0, 1.0)));
   spread *= 180.0 / M_PI;
   HULLPOSE_THROW_UNLESS(spread >= options_.min_tilt_spread_deg,
-                        "camera " << camera_id_ << ": all " << views.size()
+                        "camera " << camera_id_ << ": all " << views
                                   << " board views are nearly parallel (orientations differ by at most "
                                   << spread << " deg, need " << options_.min_tilt_spread_deg
                                   << "); tilt the board in different directions");
+  const double fx = e.K.at<double>(0, 0), fy = e.K.at<double>(1, 1);
+  const auto [sfx, sfy, scx, scy] = e.sigma;
   HULLPOSE_THROW_UNLESS(sfx <= kMaxFocalSigmaFraction * fx && sfy <= kMaxFocalSigmaFraction * fy &&
                             scx <= kMaxCentreSigmaPx && scy <= kMaxCentreSigmaPx,
-                        "camera " << camera_id_ << ": the " << views.size()
+                        "camera " << camera_id_ << ": the " << views
                                   << " board views leave the intrinsics poorly determined (sigma fx "
                                   << sfx << ", fy " << sfy << ", cx " << scx << ", cy " << scy
                                   << " px); add views with the board tilted and near the image corners");
-  return e;
 }
 
 IntrinsicsResult IntrinsicsCalibrator::calibrate() const {
@@ -217,6 +222,7 @@ IntrinsicsResult IntrinsicsCalibrator::calibrate() const {
                                     << threshold << " px); need at least " << options_.min_views);
     kept = std::move(next);
   }
+  check_determined(e, kept.size());
   CameraModel& cam = result.camera;
   cam.id = camera_id_;
   cam.name = "cam" + std::to_string(camera_id_);

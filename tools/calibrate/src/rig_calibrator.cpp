@@ -16,6 +16,10 @@ HULLPOSE_LOG_CATEGORY(Calibrate, "calibrate")
 
 namespace {
 
+// A camera's error in the rig may exceed its error alone by this factor plus slack.
+constexpr double kMaxRigToIntrinsicRms = 1.5;
+constexpr double kRigRmsSlackPx = 0.1;
+
 std::string camera_list(const std::vector<int>& ids) {
   std::ostringstream s;
   for (size_t i = 0; i < ids.size(); ++i) s << (i ? ", " : "") << ids[i];
@@ -184,6 +188,26 @@ CalibrationResult RigCalibrator::solve() const {
                         "the calibrated rig is inconsistent: RMS reprojection error " << adjusted.final_rms_px
                             << " px after bundle adjustment exceeds " << options_.max_rms_px
                             << " px (wrong board size, moving cameras, or unsynchronised images?)");
+
+  // Each camera alone fits its boards to its intrinsic RMS; much worse in the rig means the
+  // cameras disagree about the boards (wrong board size for some, a camera moved mid-capture).
+  std::vector<std::string> inconsistent;
+  for (int c = 0; c < n_cams; ++c) {
+    const double alone = intrinsics[static_cast<size_t>(c)].rms_px;
+    const double in_rig = adjusted.camera_rms_px[static_cast<size_t>(c)];
+    if (in_rig > kMaxRigToIntrinsicRms * alone + kRigRmsSlackPx) {
+      std::ostringstream s;
+      s << "camera " << ids[static_cast<size_t>(c)] << " (" << std::setprecision(3) << in_rig << " px in the rig, "
+        << alone << " px alone)";
+      inconsistent.push_back(s.str());
+    }
+  }
+  if (!inconsistent.empty()) {
+    std::string list;
+    for (const auto& s : inconsistent) list += (list.empty() ? "" : ", ") + s;
+    HULLPOSE_THROW("the calibrated rig is inconsistent: " << list
+                                                          << " (wrong board size, a camera moved, or unsynchronised images?)");
+  }
 
   CalibrationResult result;
   result.rms_px = adjusted.final_rms_px;

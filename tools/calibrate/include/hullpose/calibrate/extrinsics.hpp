@@ -33,6 +33,6 @@ Linkage link_cameras(int n_cameras, int n_views, const std::vector<PoseObservati
 // floor up to the highest camera) that at least `min_cameras` cameras see inside their image.
 // Throws hullpose::Error if no such point exists.
 CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int min_cameras,
-                                 double step_mm = 50);
+                                 double step_mm = 100);
 
 }  // namespace hullpose::calibrate

@@ -3,6 +3,7 @@
 // cv::calibrateCamera), with the live feedback of Calvin (thesis paper 1): as each view arrives,
 // how much of the image the boards cover, how many views are kept and the view's reprojection
 // error; views whose error stands out are rejected before the final estimate.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,7 +64,11 @@ class IntrinsicsCalibrator {
  private:
   struct Estimate {
     cv::Mat K, dist;
+    std::array<double, 4> sigma{};           // one-sigma fx, fy, cx, cy
+    std::vector<Eigen::Vector3d> normals;    // board normals per view, camera frame
   };
+  // Throws if the views were degenerate (all parallel) or leave the intrinsics uncertain.
+  void check_determined(const Estimate& e, size_t views) const;
   Estimate run_opencv(const std::vector<const BoardView*>& views, std::vector<cv::Mat>& rvecs,
                       std::vector<cv::Mat>& tvecs, std::vector<double>& per_view, double& rms) const;
 
