@@ -118,7 +118,7 @@ TEST_CASE("detected corners lie at the rendered corners, in board order, with th
             << gross << " with misplaced corners), corner error " << rms << " px RMS (injected "
             << kCornerNoisePx << ")\n";
   CHECK(found >= 100);
-  CHECK(gross <= 2);
+  CHECK(gross * 50 <= found);  // at most 2 %
   CHECK(rms > 0.8 * kCornerNoisePx);
   CHECK(rms < 1.3 * kCornerNoisePx);
 }
