@@ -1,0 +1,118 @@
+// Fast pieces of the calibration tool (also run under the sanitizers): Jacobians, the folder
+// provider, the command line, refusing a symmetric board.
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+#include <array>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "hullpose/calibrate/bundle_adjust.hpp"
+#include "hullpose/calibrate/options.hpp"
+#include "hullpose/calibrate/rig_calibrator.hpp"
+#include "hullpose/common/check.hpp"
+#include "synthetic_capture.hpp"
+
+using namespace hullpose;
+using namespace hullpose::calibrate;
+using namespace hullpose::calibrate::testing;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const BoardSpec kBoard{9, 6, 120};
+
+}  // namespace
+
+TEST_CASE("analytic Jacobians match central differences") {
+  const Rig rig = make_ring_rig(1);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const auto& cam : rig.cameras) {
+    const Eigen::Isometry3d board = floor_board_pose(kBoard);
+    for (int k = 0; k < kBoard.corner_count(); k += 7) {
+      const Eigen::Vector3d X = kBoard.corner_mm(k);
+      Eigen::Vector2d px;
+      CameraJacobian jc;
+      BoardJacobian jb;
+      REQUIRE(project_with_jacobians(cam, board, X, px, &jc, &jb));
+      for (int i = 0; i < kCameraParams; ++i) {
+        const double h = i < 3 ? 1e-7 : (i < 6 ? 1e-4 : (i < 10 ? 1e-4 : 1e-7));
+        Eigen::Matrix<double, kCameraParams, 1> step = Eigen::Matrix<double, kCameraParams, 1>::Zero();
+        step(i) = h;
+        CameraModel plus = cam, minus = cam;
+        apply_camera_step(plus, step);
+        apply_camera_step(minus, -step);
+        Eigen::Vector2d pp, pm;
+        project_with_jacobians(plus, board, X, pp, nullptr, nullptr);
+        project_with_jacobians(minus, board, X, pm, nullptr, nullptr);
+        const Eigen::Vector2d numeric = (pp - pm) / (2 * h);
+        INFO("camera " << cam.id << " parameter " << i);
+        CHECK((numeric - jc.col(i)).norm() < 1e-4 * std::max(1.0, numeric.norm()));
+      }
+      for (int i = 0; i < 6; ++i) {
+        const double h = i < 3 ? 1e-7 : 1e-4;
+        Eigen::Matrix<double, 6, 1> step = Eigen::Matrix<double, 6, 1>::Zero();
+        step(i) = h;
+        Eigen::Isometry3d plus = board, minus = board;
+        apply_board_step(plus, step);
+        apply_board_step(minus, -step);
+        Eigen::Vector2d pp, pm;
+        project_with_jacobians(cam, plus, X, pp, nullptr, nullptr);
+        project_with_jacobians(cam, minus, X, pm, nullptr, nullptr);
+        const Eigen::Vector2d numeric = (pp - pm) / (2 * h);
+        INFO("camera " << cam.id << " board parameter " << i);
+        CHECK((numeric - jb.col(i)).norm() < 1e-4 * std::max(1.0, numeric.norm()));
+      }
+    }
+  }
+}
+
+TEST_CASE("folder provider groups images by name across cam folders") {
+  const auto dir = std::filesystem::temp_directory_path() / "hullpose_calib_folder_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "cam0");
+  std::filesystem::create_directories(dir / "cam3");
+  std::filesystem::create_directories(dir / "notes");
+  const cv::Mat img(60, 80, CV_8UC1, cv::Scalar(100));
+  cv::imwrite((dir / "cam0" / "floor.png").string(), img);
+  cv::imwrite((dir / "cam3" / "floor.png").string(), img);
+  cv::imwrite((dir / "cam3" / "v001.png").string(), img);
+  FolderViewProvider provider(dir);
+  CHECK(provider.camera_ids() == std::vector<int>{0, 3});
+  CaptureInstant instant;
+  REQUIRE(provider.next(instant));
+  CHECK(instant.name == "floor");
+  CHECK(instant.images.size() == 2);
+  REQUIRE(provider.next(instant));
+  CHECK(instant.name == "v001");
+  REQUIRE(instant.images.size() == 1);
+  CHECK(instant.images[0].camera_id == 3);
+  CHECK_FALSE(provider.next(instant));
+  std::filesystem::remove_all(dir);
+  CHECK_THROWS_WITH(FolderViewProvider(dir), Contains("not a directory"));
+}
+
+TEST_CASE("command line errors name the argument") {
+  auto parse = [](std::initializer_list<const char*> args) {
+    std::array<const char*, 32> argv{"hullpose-calibrate"};
+    std::copy(args.begin(), args.end(), argv.begin() + 1);
+    return parse_command_line(static_cast<int>(args.size() + 1), argv.data());
+  };
+  CHECK_THROWS_WITH(parse({"--images", "d", "--out", "r.yaml", "--board", "9by6", "--square-mm", "100"}),
+                    Contains("--board: '9by6' must be COLSxROWS"));
+  CHECK_THROWS_WITH(parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "ten"}),
+                    Contains("--square-mm: 'ten' is not a number"));
+  CHECK_THROWS_WITH(parse({"--images", "d", "--board", "9x6", "--square-mm", "100"}), Contains("--out"));
+  CHECK_THROWS_WITH(parse({"--frobnicate"}), Contains("unknown argument '--frobnicate'"));
+  const CommandLine ok = parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "120",
+                                "--floor-view", "ground", "--no-k3"});
+  CHECK(ok.options.board.square_mm == 120);
+  CHECK(ok.options.floor_view == "ground");
+  CHECK_FALSE(ok.options.intrinsics.estimate_k3);
+}
+TEST_CASE("a symmetric board is refused") {
+  CalibrationOptions o;
+  o.board = {8, 6, 120};
+  CHECK_THROWS_WITH(RigCalibrator(o), Contains("symmetric under a half turn"));
+}

@@ -1,0 +1,23 @@
+#pragma once
+// hullpose-calibrate's command line.
+#include <filesystem>
+#include <string>
+
+#include "hullpose/calibrate/rig_calibrator.hpp"
+
+namespace hullpose::calibrate {
+
+struct CommandLine {
+  std::filesystem::path images;  // DIR with cam<ID>/<instant>.png
+  std::filesystem::path out;     // rig file to write
+  std::filesystem::path report;  // optional copy of the report
+  CalibrationOptions options;
+  bool quiet = false;
+  bool help = false;
+};
+
+// Throws hullpose::Error naming the offending argument.
+CommandLine parse_command_line(int argc, const char* const* argv);
+std::string usage();
+
+}  // namespace hullpose::calibrate

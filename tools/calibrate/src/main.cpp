@@ -1,0 +1,36 @@
+// hullpose-calibrate: checkerboard calibration of the whole rig, written as the rig file.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "hullpose/calibrate/options.hpp"
+#include "hullpose/calibrate/rig_calibrator.hpp"
+#include "hullpose/common/check.hpp"
+
+int main(int argc, char** argv) {
+  using namespace hullpose::calibrate;
+  try {
+    const CommandLine cli = parse_command_line(argc, argv);
+    if (cli.help) {
+      std::cout << usage();
+      return 0;
+    }
+    FolderViewProvider images(cli.images);
+    RigCalibrator calibrator(cli.options, cli.quiet ? nullptr : &std::cout);
+    calibrator.add_all(images);
+    const CalibrationResult result = calibrator.solve();
+    hullpose::save_rig(result.rig, cli.out);
+    print_report(std::cout, result);
+    if (!cli.report.empty()) {
+      std::ofstream report(cli.report);
+      HULLPOSE_THROW_UNLESS(report, cli.report.string() << ": cannot write the report");
+      print_report(report, result);
+    }
+    std::cout << "wrote " << cli.out.string() << "\n";
+    return 0;
+  } catch (const hullpose::Error& e) {
+    std::fprintf(stderr, "hullpose-calibrate: error: %s\n", e.what());
+    return 2;
+  }
+}
