@@ -206,3 +206,49 @@ TEST_CASE("a long spur between the legs does not push out the head") {
   REQUIRE(350 > (truth[index(Joint::HeadTop)] - truth[index(Joint::Chest)]).norm());
   check_labels(build(builder, voxels, g), truth);
 }
+
+TEST_CASE("a spur off the chest as long as the neck is not taken for the head") {
+  // CK3 grows spurs off a thick chest or back about as long as the chest is deep, which is the
+  // neck's length; a head often thins short of its crown. Only direction tells them apart: the
+  // neck continues the torso, the spur leaves it sideways or downwards.
+  const VoxelGridSpec g = grid_2m(128);
+  PoseTreeBuilder builder;
+  for (double yaw : {0.0, 130.0}) {
+    INFO("yaw " << yaw);
+    const JointPositions truth = stick_figure(kStature, t_pose(), {yaw, 0, 0, 0});
+    std::vector<Eigen::Vector3i> voxels;
+    for (const Bone& b : kBones)
+      if (b.child != Joint::HeadTop) rasterise_segment(g, truth[index(b.parent)], truth[index(b.child)], voxels);
+    const Eigen::Vector3d from = truth[index(Joint::Chest)];
+    const Eigen::Vector3d forward_down =
+        Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(0, 1, -0.3).normalized();
+    const double neck = (truth[index(Joint::HeadTop)] - truth[index(Joint::Chest)]).norm();
+    rasterise_segment(g, from, from + neck * forward_down, voxels);
+    dedupe(voxels);
+    const LabelledTree& t = build(builder, voxels, g);
+    INFO("why: " << t.why);
+    REQUIRE(t.valid);
+    CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Head)]).norm() <
+          2.5 * g.voxel_mm);
+    CHECK((t.position[t.extremity[static_cast<int>(Extremity::LHand)]] - truth[index(Joint::LFTip)]).norm() <
+          2.5 * g.voxel_mm);
+  }
+}
+
+TEST_CASE("pruning never removes one of the last five branches") {
+  // A head that thins to a stub (or whose branch point moves up the neck under raised arms)
+  // is shorter than the spur threshold; whether it is a limb is the ranking's decision.
+  const VoxelGridSpec g = grid_2m(128);
+  PoseTreeBuilder builder;
+  const JointPositions truth = stick_figure(kStature, t_pose(), {20, 0, 0, 0});
+  std::vector<Eigen::Vector3i> voxels;
+  for (const Bone& b : kBones)
+    if (b.child != Joint::Head && b.child != Joint::HeadTop)
+      rasterise_segment(g, truth[index(b.parent)], truth[index(b.child)], voxels);
+  dedupe(voxels);
+  const LabelledTree& t = build(builder, voxels, g);
+  REQUIRE(std::string_view(t.why) != "fewer than five extremities");
+  REQUIRE(t.extremity[static_cast<int>(Extremity::Head)] >= 0);
+  CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Neck)]).norm() <
+        2.5 * g.voxel_mm);
+}

@@ -34,7 +34,7 @@ enum class Part : uint8_t { Unlabelled, Neck, Torso, LArm, RArm, LLeg, RLeg };
 struct TreeParams {
   // Leaf branches shorter than this fraction of the longest path are spurious (the head branch
   // is ~0.125 of it, so this stays well below every real limb).
-  double prune_ratio = 0.055;
+  double prune_ratio = 0.04;
   // Scale of the "shortened limb" penalty of eq. 3-4, as a fraction of the longest path. The
   // paper's 1/(1 + (dr - db)) has no unit; in mm it would punish a one-voxel offset as hard as a
   // missing arm.
@@ -128,6 +128,7 @@ class PoseTreeBuilder {
   Ranked best_structural(double longest);
   Ranked best_for_assignment(const std::array<int32_t, kNumExtremities>& ends, double longest);
   std::array<int32_t, kNumExtremities> temporal_assignment(const TemporalHint& hint) const;
+  int32_t meeting_node(int32_t a, int32_t b) const;
   void walk_path(int32_t from, int32_t to, std::vector<int32_t>& out) const;
   void label_parts();
   bool orient(const TemporalHint& hint, double stature);
@@ -154,10 +155,12 @@ class PoseTreeBuilder {
   std::vector<Branch> branches_;
   std::vector<int32_t> junctions_;
   // Endpoints after pruning: five limbs, or up to two more spurs the ranking must leave out.
-  static constexpr int kMaxEnds = kNumExtremities + 2;
+  static constexpr int kMaxEnds = kNumExtremities + 4;
   std::vector<int32_t> ends_;
   std::array<double, kMaxEnds> end_branch_{};     // db per endpoint
   std::array<int32_t, kMaxEnds> end_junction_{};  // where its terminal branch meets the tree
+  mutable std::array<double, 1u << kMaxEnds> assign_cost_{};  // temporal_assignment() DP
+  mutable std::array<int8_t, 1u << kMaxEnds> assign_from_{};
 };
 
 }  // namespace hullpose::pose
