@@ -105,7 +105,11 @@ TEST_CASE("head not the highest point: hands above the head, and upside down") {
 }
 
 TEST_CASE("an arm above the head") {
-  const VoxelGridSpec g = grid_2m(128);
+  // A volume tall enough for the raised hand (2 m would cut it off: the frame would be invalid).
+  CaptureVolume volume;
+  volume.min_mm = Eigen::Vector3d(-1200, -1200, 0);
+  volume.max_mm = Eigen::Vector3d(1200, 1200, 2400);
+  const VoxelGridSpec g = VoxelGridSpec::fit(volume, 128);
   PoseTreeBuilder builder;
   Limbs p = t_pose();
   p.l_upper_arm = {0.1, 0, 1};
@@ -251,4 +255,22 @@ TEST_CASE("pruning never removes one of the last five branches") {
   REQUIRE(t.extremity[static_cast<int>(Extremity::Head)] >= 0);
   CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Neck)]).norm() <
         2.5 * g.voxel_mm);
+}
+
+TEST_CASE("a skeleton cut off by the side of the capture volume is invalid") {
+  // Walking out of the volume: the hull, and with it a foot or a hand, is cut at the side.
+  const VoxelGridSpec g = grid_2m(128);
+  PoseTreeBuilder builder;
+  const JointPositions inside = stick_figure(kStature, t_pose(), {0, 0, 0, 0});
+  REQUIRE(build(builder, rasterise(g, inside), g).valid);
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d(0, 950, 0), Eigen::Vector3d(-300, 0, 0)}) {
+    JointPositions moved = inside;
+    for (auto& p : moved) p += shift;
+    std::vector<Eigen::Vector3i> voxels;
+    for (const Eigen::Vector3i& v : rasterise(g, moved))
+      if (g.contains(v)) voxels.push_back(v);
+    const LabelledTree& t = build(builder, voxels, g);
+    CHECK_FALSE(t.valid);
+    CHECK_THAT(t.why, Catch::Contains("partly outside"));
+  }
 }

@@ -610,6 +610,16 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
     invalidate(n == 0 ? "no skeleton voxels" : "skeleton too small");
     return tree_;
   }
+  {
+    const Eigen::Vector3d low = grid.origin_mm.array() + (params_.edge_voxels + 1) * grid.voxel_mm;
+    const Eigen::Vector3d high =
+        grid.origin_mm.array() + (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
+    for (const Eigen::Vector3d& p : tree_.position)
+      if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() || p.z() > high.z()) {
+        invalidate("the skeleton reaches the side of the capture volume: the person is partly outside");
+        return tree_;
+      }
+  }
   const double longest = longest_path();
   tree_.longest_path_mm = longest;
   if (!prune(longest)) {

@@ -14,7 +14,8 @@
 //      correspondence with the previous valid frame;
 //   4. segment into neck, torso, arms and legs;
 //   5. forward vector from the legs (alg. 5) and left/right from shoulder and hip lines (alg. 6);
-//   6. validity: see TreeParams and docs in pose_tree.cpp.
+//   6. validity: see TreeParams and docs in pose_tree.cpp (including: the skeleton must not
+//      touch the sides or the top of the capture volume).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -52,6 +53,10 @@ struct TreeParams {
   // when a previous valid frame exists.
   double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
   double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
+  // A skeleton that comes this close (voxels) to a side or the top of the grid belongs to a hull
+  // cut off by the capture volume: part of the person is outside, and a limb may be missing or
+  // cut short, so the frame is invalid. (Walks that leave the volume: 02_01, 08_02, 49_08.)
+  int edge_voxels = 1;
   // Algorithm 5: a joint normal counts only if the joint is bent by more than this.
   double bend_min_deg = 12;
 };
