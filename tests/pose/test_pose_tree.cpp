@@ -105,11 +105,7 @@ TEST_CASE("head not the highest point: hands above the head, and upside down") {
 }
 
 TEST_CASE("an arm above the head") {
-  // A volume tall enough for the raised hand (2 m would cut it off: the frame would be invalid).
-  CaptureVolume volume;
-  volume.min_mm = Eigen::Vector3d(-1200, -1200, 0);
-  volume.max_mm = Eigen::Vector3d(1200, 1200, 2400);
-  const VoxelGridSpec g = VoxelGridSpec::fit(volume, 128);
+  const VoxelGridSpec g = grid_tall(128);
   PoseTreeBuilder builder;
   Limbs p = t_pose();
   p.l_upper_arm = {0.1, 0, 1};
