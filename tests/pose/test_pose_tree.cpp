@@ -270,3 +270,32 @@ TEST_CASE("a skeleton cut off by the side of the capture volume is invalid") {
     CHECK_THAT(t.why, Catch::Contains("partly outside"));
   }
 }
+
+TEST_CASE("a skeleton that reads the same upside down is labelled upright") {
+  // Arms hanging beside the legs make the upright and the upside-down readings rank alike (on
+  // CMU 131_02 the feet became hands and a knee spur the head). A mirror-symmetric tree ranks
+  // exactly alike both ways: the upright reading must win.
+  const VoxelGridSpec g = grid_tall(128);
+  PoseTreeBuilder builder;
+  for (double yaw : {0.0, 40.0, 90.0, 200.0}) {
+    INFO("yaw " << yaw);
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d chest(0, 0, 1400), pelvis(0, 0, 900), up(0, 0, 1);
+    std::vector<Eigen::Vector3i> voxels;
+    auto segment = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      rasterise_segment(g, turn * a, turn * b, voxels);
+    };
+    segment(pelvis, chest);
+    segment(chest, chest + 280 * up);
+    segment(pelvis, pelvis - 280 * up);
+    for (double side : {-1.0, 1.0}) {
+      segment(chest, chest + Eigen::Vector3d(side * 350, 60, 720));
+      segment(pelvis, pelvis + Eigen::Vector3d(side * 350, 60, -720));
+    }
+    dedupe(voxels);
+    const LabelledTree& t = build(builder, voxels, g);
+    REQUIRE(t.origin >= 0);
+    CHECK(t.position[t.origin].z() > 1300);
+    CHECK(t.position[t.extremity[static_cast<int>(Extremity::Head)]].z() > 1600);
+  }
+}

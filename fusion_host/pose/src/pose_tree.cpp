@@ -6,12 +6,16 @@
 //    tip. The threshold is a fraction of the longest path below the head branch, rather than an
 //    arm length, because the tree here is treated as unrooted: the head is a terminal branch like
 //    any other, which removes the paper's dependence on the head being the highest point.
+//    Pruning never goes below five branches, and up to four spurs survive it for the ranking.
+//  - Ranking: the head must continue the torso (eq. 1's head factor times a direction factor):
+//    CK3's spurs off a thick chest are as long as a neck and only their direction differs.
 //  - Candidate ranking (eq. 1-4) measures the "shortened limb" penalty in units of a fraction of
 //    the longest path, and counts junctions closer than a few voxels as one (CK3 splits a
 //    degree-4 junction into two degree-3 nodes where the skeleton is two voxels thick).
 //  - Validity: instead of one empirical threshold on the raw rank product (which scales with the
 //    number of limbs and is hard to read), every rank factor is in 0..1, the labelling must
-//    reach a minimum geometric mean AND a minimum single factor, and the torso must exist. A
+//    reach a minimum geometric mean AND a minimum single factor, the torso must exist, and the
+//    skeleton must not touch the sides or top of the capture volume (a cut-off person). A
 //    single badly wrong limb (arm merged with the torso, leg missing) therefore fails the tree
 //    even when the others are perfect.
 //  - Temporal correspondence chooses the extremity classes only when the labelling it implies
@@ -325,6 +329,7 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
   Ranked r;
   r.origin = candidate;
   r.ends = ends;
+  r.upright = pelvis >= 0 && tree_.position[candidate].z() > tree_.position[pelvis].z();
   for (int s = 0; s < kNumExtremities; ++s) {
     const double dr = dist_[ends[s]];
     const double offset = std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
@@ -357,7 +362,7 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
 PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
   // Every origin candidate, and every choice of five endpoints when pruning left more (a long
   // spur, e.g. the ghost volume between the legs, can outlast the head's short branch).
-  Ranked best;
+  Ranked best, best_upright;
   const uint32_t count = static_cast<uint32_t>(ends_.size());
   for (int32_t c : junctions_) {
     distances_from(c, true);
@@ -372,9 +377,12 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
       const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
       const Ranked r = rank_candidate(c, ends, longest);
       if (r.rank > best.rank) best = r;
+      if (r.upright && r.rank > best_upright.rank) best_upright = r;
     }
   }
-  return best;
+  return !best.upright && best_upright.origin >= 0 && best_upright.quality >= best.quality - params_.upright_margin
+             ? best_upright
+             : best;
 }
 
 PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<int32_t, kNumExtremities>& ends,
