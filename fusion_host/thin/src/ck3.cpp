@@ -18,7 +18,7 @@ namespace hullpose::thin {
 
 namespace {
 
-enum : uint16_t {
+enum : uint8_t {
   kS0 = 1 << 0,     // simple and not in K (candidate before the curve rule)
   kSurfV = 1 << 1,  // non-simple with T̄ >= 2 (2D isthmus voxel)
   kK = 1 << 2,      // permanent constraint
@@ -27,7 +27,10 @@ enum : uint16_t {
   kZ2 = 1 << 5,     // marked at level 2
   kZ1 = 1 << 6,     // marked at level 1
   kInB = 1 << 7,    // in the border list
-  kPK = 1 << 8,     // isthmus found this iteration (joins K)
+  // Isthmus found this iteration (joins K). Shares kSurf's bit: kSurf is used by the CK3 rule
+  // only, kPK by the isthmus rule only, and one byte of flags per voxel halves the footprint of
+  // the neighbour reads that dominate the passes.
+  kPK = kSurf,
 };
 
 }  // namespace
@@ -45,7 +48,10 @@ const char* to_string(CurveRule rule) {
 struct Ck3Thinner::State {
   detail::PaddedVolume vol;
   std::vector<uint32_t> border, next_border, codes, k_list;
-  std::vector<std::vector<uint32_t>> deleted;  // per thread
+  // Flags of border-list entry i, mirrored from the volume: a pass reads its own voxel's flags
+  // in list order (sequential) and only neighbours' from the volume.
+  std::vector<uint8_t> own;
+  std::vector<std::vector<uint32_t>> deleted;  // per thread: border-list positions
   int face_off[6] = {};
 };
 
@@ -56,7 +62,7 @@ namespace {
 
 // Members of a clique other than x, given as 27-bit code bits, all "free" (flags & mask == want)?
 // Read lazily: most cliques of a border voxel contain an interior voxel, which fails at once.
-bool members_free(const detail::PaddedVolume& vol, uint32_t idx, uint32_t members, uint16_t mask, uint16_t want) {
+bool members_free(const detail::PaddedVolume& vol, uint32_t idx, uint32_t members, uint8_t mask, uint8_t want) {
   for (uint32_t m = members & ~nb::kCentreBit; m != 0; m &= m - 1)
     if ((vol.flags(idx + static_cast<uint32_t>(vol.offsets27()[std::countr_zero(m)])) & mask) != want) return false;
   return true;
@@ -85,24 +91,38 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   const bool antipodal = options_.zero_clique == ZeroCliqueTest::kAntipodal;
   const auto& rings = detail::kRingTables;
   int iterations = 0;
+  auto set = [&](size_t i, uint32_t idx, uint8_t f) {
+    s.own[i] = f;
+    vol.set_flags(idx, f);
+  };
 
   while (!s.border.empty()) {
     const std::vector<uint32_t>& border = s.border;
     const size_t n = border.size();
     s.codes.resize(n);
+    s.own.resize(n);
     stats.visited += n;
     const bool parallel = threads > 1 && n >= static_cast<size_t>(std::max(0, options_.min_parallel_border));
 
-#pragma omp parallel num_threads(threads) if (parallel)
-    {
+// The passes, as orphaned worksharing loops: run by every thread of a team, or directly by
+    // this thread when the iteration is too small to share (no OpenMP team set up at all).
+    auto passes = [&] {
       const int tid = omp_get_thread_num();
-      // 1. Classify: code, simple, 2D isthmus, constraints of the end-voxel and isthmus rules.
+      // 1. Codes first, prefetching each one's word of the 8 MiB simple-point LUT, whose misses
+      // otherwise dominate the classification. Same static schedule as the next loop, so each
+      // thread reads back only codes it wrote (no barrier needed).
+#pragma omp for schedule(static) nowait
+      for (size_t i = 0; i < n; ++i) {
+        const uint32_t code = vol.code(border[i]);
+        s.codes[i] = code;
+        prefetch_simple(code);
+      }
+      // Classify: simple, 2D isthmus, constraints of the end-voxel and isthmus rules.
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
-        const uint32_t code = vol.code(idx);
-        s.codes[i] = code;
-        uint16_t f = kInB;
+        const uint32_t code = s.codes[i];
+        uint8_t f = kInB;
         const bool simple = is_simple(code);
         if (rule == CurveRule::kEndVoxel && std::popcount(code & ~nb::kCentreBit) == 1) f |= kK;
         if (rule == CurveRule::kIsthmus && !simple && tbar_class(code) == 1 && nb::t26(code, 3) == 2) f |= kK;
@@ -114,7 +134,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
             f |= kSurfV;
           }
         }
-        vol.set_flags(idx, f);
+        set(i, idx, f);
       }
 
       // 2. Curve rule.
@@ -123,13 +143,13 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
+          const uint8_t f = s.own[i];
           if (!(f & kS0)) continue;
           for (int d = 0; d < 6; ++d) {
             const auto& [axis, sign] = detail::kDirections[d];
             if ((vol.flags(idx + s.face_off[d]) & kS0) &&
                 (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingFull4)) {
-              vol.set_flags(idx, f | kSurf);
+              set(i, idx, f | kSurf);
               break;
             }
           }
@@ -139,7 +159,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
+          const uint8_t f = s.own[i];
           if (!(f & kS0)) continue;
           const uint32_t code = s.codes[i];
           bool residual = true;
@@ -149,14 +169,14 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
           }
           // Only object neighbours can carry surface marks.
           const bool curve = residual && members_free(vol, idx, code, kSurf | kSurfV, 0);
-          if (!curve) vol.set_flags(idx, f | kS);
+          if (!curve) set(i, idx, f | kS);
         }
       } else if (rule == CurveRule::kIsthmus) {
         // 2-clique isthmus (T4̄ != 0, T8 = 2), recording crucial 2-cliques for the 1-clique step.
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           const uint32_t idx = border[i];
-          uint16_t f = vol.flags(idx);
+          uint8_t f = s.own[i];
           if (!(f & kS0)) continue;
           for (int d = 0; d < 6; ++d) {
             const auto& [axis, sign] = detail::kDirections[d];
@@ -165,13 +185,13 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
             if (r & detail::kRingCrucial) f |= kZ2;
             if (r & detail::kRingIsthmus) f |= kPK;
           }
-          vol.set_flags(idx, f);
+          set(i, idx, f);
         }
         // 1-clique isthmus: candidates only, none marked at the 2-clique step, both caps non-empty.
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
+          const uint8_t f = s.own[i];
           if ((f & (kS0 | kZ2)) != kS0) continue;
           const uint32_t code = s.codes[i];
           bool isthmus = false;
@@ -184,17 +204,17 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
                 break;
               }
           }
-          if (isthmus) vol.set_flags(idx, f | kPK);
+          if (isthmus) set(i, idx, f | kPK);
         }
         // Isthmuses join K for good; the other candidates go on, marks cleared.
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
+          const uint8_t f = s.own[i];
           if (f & kPK)
-            vol.set_flags(idx, kInB | kK);
+            set(i, idx, kInB | kK);
           else if (f & kS0)
-            vol.set_flags(idx, static_cast<uint16_t>((f & ~kZ2) | kS));
+            set(i, idx, static_cast<uint8_t>((f & ~kZ2) | kS));
         }
       }
 
@@ -202,13 +222,13 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
+        const uint8_t f = s.own[i];
         if (!(f & kS)) continue;
         for (int d = 0; d < 6; ++d) {
           const auto& [axis, sign] = detail::kDirections[d];
           if ((vol.flags(idx + s.face_off[d]) & kS) &&
               (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingCrucial)) {
-            vol.set_flags(idx, f | kZ2);
+            set(i, idx, f | kZ2);
             break;
           }
         }
@@ -217,7 +237,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
+        const uint8_t f = s.own[i];
         if ((f & (kS | kZ2)) != kS) continue;
         const uint32_t code = s.codes[i];
         bool marked = false;
@@ -230,14 +250,14 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
               break;
             }
         }
-        if (marked) vol.set_flags(idx, f | kZ1);
+        if (marked) set(i, idx, f | kZ1);
       }
       // 5. Level 0: essential 0-cliques of unmarked candidates; what stays unmarked is deleted.
       std::vector<uint32_t>& deleted = s.deleted[static_cast<size_t>(tid)];
 #pragma omp for schedule(static)
       for (size_t i = 0; i < n; ++i) {
         const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
+        const uint8_t f = s.own[i];
         if ((f & (kS | kZ2 | kZ1)) != kS) continue;
         const uint32_t code = s.codes[i];
         bool marked = false;
@@ -249,25 +269,32 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
             break;
           }
         }
-        if (!marked) deleted.push_back(idx);
+        if (!marked) deleted.push_back(static_cast<uint32_t>(i));
       }
+    };
+    if (parallel) {
+#pragma omp parallel num_threads(threads)
+      passes();
+    } else {
+      passes();
     }
 
     // 6. Delete, grow the border list with newly exposed voxels, move K out of it.
     size_t removed = 0, constrained = 0;
     for (auto& list : s.deleted) {
-      for (uint32_t idx : list) {
-        vol.clear(idx);
-        vol.set_flags(idx, 0);
+      for (uint32_t i : list) {
+        vol.clear(s.border[i]);
+        set(i, s.border[i], 0);
       }
       removed += list.size();
     }
     s.next_border.clear();
-    for (uint32_t idx : s.border) {
-      const uint16_t f = vol.flags(idx);
+    for (size_t i = 0; i < s.border.size(); ++i) {
+      const uint32_t idx = s.border[i];
+      const uint8_t f = s.own[i];
       if (f == 0) continue;  // deleted
       if (f & kK) {
-        vol.set_flags(idx, kK);
+        set(i, idx, kK);
         s.k_list.push_back(idx);
         ++constrained;
       } else {
@@ -275,9 +302,9 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
       }
     }
     for (auto& list : s.deleted) {
-      for (uint32_t idx : list)
+      for (uint32_t i : list)
         for (int d = 0; d < 6; ++d) {
-          const uint32_t q = idx + static_cast<uint32_t>(s.face_off[d]);
+          const uint32_t q = s.border[i] + static_cast<uint32_t>(s.face_off[d]);
           if (vol.get(q) && vol.flags(q) == 0) {
             vol.set_flags(q, kInB);
             s.next_border.push_back(q);

@@ -17,7 +17,7 @@ namespace hullpose::thin {
 
 namespace {
 
-enum : uint16_t { kK = 1, kInB = 2 };
+enum : uint8_t { kK = 1, kInB = 2 };
 
 // Neighbourhood offsets r ordered before the centre for direction d: (sign * r_axis, r_z, r_y, r_x)
 // lexicographically smaller than zero.
