@@ -30,7 +30,7 @@ VoxelProjector::VoxelProjector(const CameraModel& c) {
 
 namespace {
 
-constexpr int kLevels = 3;      // node sizes F, 2F, 4F voxels; the top level are the cells
+constexpr int kLevels = 4;      // node sizes F, 2F, 4F, 8F voxels; the top level are the cells
 constexpr int kMaxCameras = 64;
 constexpr int kMaxFinestVoxels = 512;  // finest nodes of up to 8³ voxels (resolution < 576)
 // Per-voxel pixel tables (2 bytes per voxel and camera) up to this size; beyond, voxels of
