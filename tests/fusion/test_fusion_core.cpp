@@ -55,6 +55,8 @@ TEST_CASE("silhouettes of one instant in, hull and skeleton out") {
     CHECK(r.hull_stats.components_kept == 1);
     CHECK(thin::topology_invariants(r.hull).components == 1);
     CHECK(r.skeleton_voxels.size() == r.skeleton.count());
+    CHECK(r.thin.initial_voxels == r.hull.count());
+    CHECK(r.thin.final_voxels == r.skeleton.count());
     CHECK(r.skeleton_voxels.size() > (ft::kSanitizerBuild ? 8u : 20u));
     for (const auto& v : r.skeleton_voxels) CHECK(r.hull.get(v.x(), v.y(), v.z()));
     CHECK(thin::topology_invariants(r.skeleton) == thin::topology_invariants(r.hull));

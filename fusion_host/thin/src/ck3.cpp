@@ -64,8 +64,9 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   State& s = *state_;
   detail::PaddedVolume& vol = s.vol;
   ThinStats stats;
-  stats.initial_voxels = volume.count();
   vol.load(volume, constraint, kK, kInB, s.border, s.k_list);
+  stats.initial_voxels = vol.voxels();
+  size_t removed_total = 0;
   for (int d = 0; d < 6; ++d) {
     const auto& [axis, sign] = detail::kDirections[d];
     s.face_off[d] = vol.offset(axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0);
@@ -149,6 +150,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
         set(i, s.border[i], 0);
       }
       removed += list.size();
+      removed_total += list.size();
     }
     s.next_border.clear();
     for (size_t i = 0; i < s.border.size(); ++i) {
@@ -186,7 +188,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   vol.zero_flags(s.border);
   vol.zero_flags(s.k_list);
   stats.iterations = iterations;
-  stats.final_voxels = volume.count();
+  stats.final_voxels = stats.initial_voxels - removed_total;
   stats.constrained = s.k_list.size();
   return stats;
 }

@@ -33,6 +33,7 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
   // and every per-frame cost here (copy, border scan, flag-array footprint) scales with it.
   const int gw = grid.words_per_row();
   column_or_.assign(static_cast<size_t>(gw), 0);
+  voxels_ = 0;
   Eigen::Vector3i lo(0, dims.y(), dims.z()), hi(0, -1, -1);  // inclusive y, z range
   for (int z = 0; z < dims.z(); ++z)
     for (int y = 0; y < dims.y(); ++y) {
@@ -41,6 +42,7 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
       for (int w = 0; w < gw; ++w) {
         column_or_[static_cast<size_t>(w)] |= src[w];
         any |= src[w];
+        voxels_ += static_cast<size_t>(std::popcount(src[w]));
       }
       if (any == 0) continue;
       lo.y() = std::min(lo.y(), y);

@@ -22,6 +22,8 @@ class PaddedVolume {
   // (zero_flags() restores that), so a frame never pays for clearing the whole flag volume.
   void load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint8_t k_flag, uint8_t inb_flag,
             std::vector<uint32_t>& border, std::vector<uint32_t>& k_list);
+  // Object voxels counted by the last load().
+  size_t voxels() const { return voxels_; }
   // Writes the object back into `grid` (same dims as loaded) and K into `constraint`.
   void store(fusion::BitGrid& grid, fusion::BitGrid* constraint, const std::vector<uint32_t>& k_list) const;
 
@@ -79,6 +81,7 @@ class PaddedVolume {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // the grid's
   Eigen::Vector3i lo_ = Eigen::Vector3i::Zero();    // grid coordinates of the object's bounding box corner
   std::vector<uint64_t> column_or_;
+  size_t voxels_ = 0;
   std::vector<uint64_t> rows_;
   std::vector<uint8_t> flags_;
 };
