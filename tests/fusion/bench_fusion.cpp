@@ -7,6 +7,9 @@
 //   d6i1d/N        D6I1D, 1 thread                       peer: skimage/skeletonize_3d/N
 //   fusion/N       carve + clean-up + CK3 + skeleton list, 1 thread (goal: 1 ms at 64, 5 ms at 128)
 //   fusion/N/threads:2
+//   cuda/carve/N, cuda/ck3/N  (N = 64, 128, 256; only where a CUDA device is present) the CUDA
+//                  backend, with per-stage GPU times (CUDA events): upload_ms, kernels_ms,
+//                  download_ms; peers: carve/N and ck3/N (the CPU), none at 256
 // carve/N and fusion/N get the silhouettes' foreground boxes (the fusion host has them from the
 // silhouette codec's header), so no full-image scan is timed.
 // The thinning inputs (the cleaned hulls) are written to BUILD/bench/volumes/hull_N_fF.npy for
@@ -21,6 +24,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hullpose/fusion/fusion_core.hpp"
+#include "hullpose/gpu/backend.hpp"
+#include "hullpose/gpu/cuda_fusion.hpp"
 #include "support/cmu_scene.hpp"
 
 namespace {
@@ -100,6 +105,22 @@ Scene& scene(int resolution) {
   return *s;
 }
 
+// Hull voxels summed over all frames of the scene: the same figure for a bench and its peer
+// (the last iteration's frame depends on the iteration count).
+size_t hull_voxels_all_frames(Scene& s, bool brute) {
+  fusion::BitGrid hull;
+  carve::CarveReport report;
+  size_t total = 0;
+  for (size_t f = 0; f < s.views.size(); ++f) {
+    if (brute)
+      s.carver->carve_brute_force(s.views[f], hull, report);
+    else
+      s.carver->carve(s.views[f], hull, report, s.boxes[f]);
+    total += report.voxels;
+  }
+  return total;
+}
+
 void carve_fast(benchmark::State& state, int res) {
   Scene& s = scene(res);
   fusion::BitGrid hull;
@@ -111,7 +132,7 @@ void carve_fast(benchmark::State& state, int res) {
     f = (f + 1) % s.views.size();
   }
   state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / static_cast<double>(state.iterations());
-  state.counters["voxels"] = static_cast<double>(report.voxels);
+  state.counters["voxels"] = static_cast<double>(hull_voxels_all_frames(s, false));
   state.SetLabel("peer=carve_brute/" + std::to_string(res));
 }
 
@@ -126,7 +147,7 @@ void carve_brute(benchmark::State& state, int res) {
     f = (f + 1) % s.views.size();
   }
   state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / static_cast<double>(state.iterations());
-  state.counters["voxels"] = static_cast<double>(report.voxels);
+  state.counters["voxels"] = static_cast<double>(hull_voxels_all_frames(s, true));
 }
 
 void ck3(benchmark::State& state, int res, int threads) {
@@ -190,6 +211,50 @@ void fusion_core(benchmark::State& state, int res, int threads) {
   state.counters["thin_ms"] = thin_ms / n;
 }
 
+void cuda_carve(benchmark::State& state, int res) {
+  Scene& s = scene(res);
+  gpu::CudaFusion cuda(*s.carver, {});
+  fusion::BitGrid hull;
+  carve::CarveReport report;
+  gpu::GpuStageTimes sum;
+  size_t f = 0;
+  for (auto _ : state) {
+    cuda.carve(s.views[f], hull, report, s.boxes[f]);
+    f = (f + 1) % s.views.size();
+    sum.upload_ms += cuda.carve_times().upload_ms;
+    sum.kernels_ms += cuda.carve_times().kernels_ms;
+    sum.download_ms += cuda.carve_times().download_ms;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["upload_ms"] = sum.upload_ms / n;
+  state.counters["kernels_ms"] = sum.kernels_ms / n;
+  state.counters["download_ms"] = sum.download_ms / n;
+  if (res <= 128) state.SetLabel("peer=carve/" + std::to_string(res));
+}
+
+void cuda_ck3(benchmark::State& state, int res) {
+  Scene& s = scene(res);
+  gpu::CudaFusion cuda(*s.carver, {});
+  fusion::BitGrid v;
+  thin::ThinStats st;
+  gpu::GpuStageTimes sum;
+  size_t f = 0;
+  for (auto _ : state) {
+    v = s.hulls[f];
+    st = cuda.thin(v);
+    f = (f + 1) % s.hulls.size();
+    sum.upload_ms += cuda.thin_times().upload_ms;
+    sum.kernels_ms += cuda.thin_times().kernels_ms;
+    sum.download_ms += cuda.thin_times().download_ms;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["upload_ms"] = sum.upload_ms / n;
+  state.counters["kernels_ms"] = sum.kernels_ms / n;
+  state.counters["download_ms"] = sum.download_ms / n;
+  state.counters["thin_iterations"] = st.iterations;
+  if (res <= 128) state.SetLabel("peer=ck3/" + std::to_string(res));
+}
+
 const bool registered = [] {
   for (int res : {64, 128}) {
     const std::string r = std::to_string(res);
@@ -201,6 +266,13 @@ const bool registered = [] {
     benchmark::RegisterBenchmark(("fusion/" + r).c_str(), fusion_core, res, 1)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("fusion/" + r + "/threads:2").c_str(), fusion_core, res, 2)->Unit(benchmark::kMillisecond);
   }
+  // The CUDA backend where a device is present (bench_fusion runs unchanged without one).
+  if (gpu::probe_device().available)
+    for (int res : {64, 128, 256}) {
+      const std::string r = std::to_string(res);
+      benchmark::RegisterBenchmark(("cuda/carve/" + r).c_str(), cuda_carve, res)->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("cuda/ck3/" + r).c_str(), cuda_ck3, res)->Unit(benchmark::kMillisecond);
+    }
   return true;
 }();
 

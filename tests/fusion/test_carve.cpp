@@ -7,6 +7,7 @@
 #include "hullpose/carve/carver.hpp"
 #include "support/carve_helpers.hpp"
 #include "support/synthetic_scene.hpp"
+#include "support/test_sizes.hpp"
 
 using namespace hullpose;
 using fusion::BitGrid;
@@ -37,10 +38,10 @@ TEST_CASE("VoxelProjector is CameraModel::project rounded to the nearest pixel")
   }
 }
 
-TEST_CASE("fast carving equals brute force at 64³") {
+TEST_CASE("fast carving equals brute force at 64³ (32³ under the sanitizers)") {
   const Rig rig = ft::thesis_like_rig(320, 240);
   for (int k : {0, 1}) {
-    carve::Carver carver(rig, {64, k, 2});
+    carve::Carver carver(rig, {ft::kUnitResolution, k, 2});
     INFO("k " << k);
     const auto views = ft::render_views(rig, ft::human_capsules(0.6, 1.8, {120, -100}));
     carve::CarveReport report;
@@ -48,14 +49,14 @@ TEST_CASE("fast carving equals brute force at 64³") {
     CHECK(report.valid);
     CHECK(report.cameras_used == 8);
     CHECK(report.voxels == a.count());
-    CHECK(a.count() > 500);
+    CHECK(a.count() > 500 / ft::kVoxelScale);
     CHECK(a == brute(carver, views));
   }
 }
 
 TEST_CASE("the hull contains the body") {
   const Rig rig = ft::thesis_like_rig(400, 300);
-  carve::Carver carver(rig, {64, 0, 1});
+  carve::Carver carver(rig, {ft::kUnitResolution, 0, 1});
   const auto body = ft::human_capsules(0.25, 0.4);
   const BitGrid hull = fast(carver, ft::render_views(rig, body));
   const BitGrid solid = ft::voxelise(carver.grid(), body);
@@ -68,8 +69,8 @@ TEST_CASE("the hull contains the body") {
 TEST_CASE("k-of-n tolerance: a dark camera and a noisy one") {
   const Rig rig = ft::thesis_like_rig(320, 240);
   const auto views = ft::render_views(rig, ft::human_capsules(0.5));
-  carve::Carver strict(rig, {64, 0, 1});
-  carve::Carver tolerant(rig, {64, 1, 1});
+  carve::Carver strict(rig, {ft::kUnitResolution, 0, 1});
+  carve::Carver tolerant(rig, {ft::kUnitResolution, 1, 1});
   const BitGrid clean = fast(strict, views);
 
   SECTION("dark camera: all-but-one equals carving without that camera") {
@@ -107,7 +108,7 @@ TEST_CASE("k-of-n tolerance: a dark camera and a noisy one") {
 
 TEST_CASE("missing, malformed and too few views are reported, never fused") {
   const Rig rig = ft::thesis_like_rig(160, 120);
-  carve::Carver carver(rig, {64, 1, 1});
+  carve::Carver carver(rig, {ft::kUnitResolution, 1, 1});
   auto views = ft::render_views(rig, ft::human_capsules(0.1));
   views[0] = cv::Mat();
   views[5] = cv::Mat::zeros(10, 10, CV_8UC1);

@@ -10,14 +10,29 @@
 
 namespace hullpose::carve {
 
-VoxelProjector::VoxelProjector(const CameraModel& c)
-    : R_(c.R), t_(c.t), fx_(c.fx), fy_(c.fy), cx_(c.cx), cy_(c.cy), k1_(c.dist[0]), k2_(c.dist[1]),
-      p1_(c.dist[2]), p2_(c.dist[3]), k3_(c.dist[4]), width_(c.width), height_(c.height) {}
+VoxelProjector::VoxelProjector(const CameraModel& c) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) params_.r[3 * i + j] = c.R(i, j);
+    params_.t[i] = c.t[i];
+  }
+  params_.fx = c.fx;
+  params_.fy = c.fy;
+  params_.cx = c.cx;
+  params_.cy = c.cy;
+  params_.k1 = c.dist[0];
+  params_.k2 = c.dist[1];
+  params_.p1 = c.dist[2];
+  params_.p2 = c.dist[3];
+  params_.k3 = c.dist[4];
+  params_.width = c.width;
+  params_.height = c.height;
+}
 
 namespace {
 
-constexpr int kLevels = 3;      // node sizes F, 2F, 4F voxels; the top level are the cells
+constexpr int kLevels = 4;      // node sizes F, 2F, 4F, 8F voxels; the top level are the cells
 constexpr int kMaxCameras = 64;
+constexpr int kMaxFinestVoxels = 512;  // finest nodes of up to 8³ voxels (resolution < 576)
 // Per-voxel pixel tables (2 bytes per voxel and camera) up to this size; beyond, voxels of
 // undecided finest nodes are projected on the fly (same projector, same result).
 constexpr size_t kMaxPixelTableBytes = size_t{64} << 20;
@@ -77,7 +92,8 @@ struct Carver::Frame {
   std::vector<cv::Rect> boxes;
   std::vector<std::vector<int32_t>> sat_storage;
   std::vector<cv::Mat> sat;  // headers over sat_storage: (box.height + 1) x (box.width + 1)
-  std::vector<const cv::Mat*> masks;
+  std::vector<const uint8_t*> bases;  // per camera: the mask's first pixel and row step
+  std::vector<size_t> steps;
 };
 
 Carver::Carver(const Rig& rig, const CarveOptions& options)
@@ -100,6 +116,8 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
   // Finest node size: 2 voxels, larger for big grids so the tables stay near 64³ nodes.
   Precomputed& p = *pre_;
   p.finest = std::max(2, grid_.dims.maxCoeff() / 64);
+  HULLPOSE_THROW_UNLESS(p.finest * p.finest * p.finest <= kMaxFinestVoxels,
+                        "carve: resolution " << options.resolution << " too large (at most 575)");
   for (int l = 0; l < kLevels; ++l) {
     const int s = p.size(l);
     p.nodes[static_cast<size_t>(l)] = (grid_.dims.array() + s - 1) / s;
@@ -165,7 +183,8 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
   f.boxes.resize(static_cast<size_t>(ncam));
   f.sat_storage.resize(static_cast<size_t>(ncam));
   f.sat.resize(static_cast<size_t>(ncam));
-  f.masks.assign(static_cast<size_t>(ncam), nullptr);
+  f.bases.assign(static_cast<size_t>(ncam), nullptr);
+  f.steps.assign(static_cast<size_t>(ncam), 0);
   for (int c = 0; c < ncam; ++c)
     f.sat_storage[static_cast<size_t>(c)].resize(static_cast<size_t>(rig_.cameras[static_cast<size_t>(c)].width + 1) *
                                                  static_cast<size_t>(rig_.cameras[static_cast<size_t>(c)].height + 1));
@@ -202,19 +221,19 @@ void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& 
   hull.reset(grid_.dims);
   report.voxels = 0;
   if (!report.valid) return;
-  const int k = options_.tolerance;
+  std::vector<CameraParams> cams;
+  std::vector<MaskView> masks;
+  for (int c : present) {
+    const cv::Mat& m = views[static_cast<size_t>(c)];
+    cams.push_back(projectors_[static_cast<size_t>(c)].params());
+    masks.push_back({m.ptr<uint8_t>(0), m.step[0], 0, 0, m.cols, m.rows});
+  }
+  const int n = static_cast<int>(present.size());
   for (int z = 0; z < grid_.dims.z(); ++z)
     for (int y = 0; y < grid_.dims.y(); ++y)
       for (int x = 0; x < grid_.dims.x(); ++x) {
         const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
-        int misses = 0;
-        for (int c : present) {
-          int px, py;
-          const bool hit = projectors_[static_cast<size_t>(c)].pixel(centre, px, py) &&
-                           views[static_cast<size_t>(c)].ptr<uint8_t>(py)[px] != 0;
-          if (!hit && ++misses > k) break;
-        }
-        if (misses <= k) {
+        if (voxel_kept(cams.data(), masks.data(), n, options_.tolerance, centre.x(), centre.y(), centre.z())) {
           hull.set(x, y, z);
           ++report.voxels;
         }
@@ -243,7 +262,8 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
       box = cv::boundingRect(m);
     }
     f.boxes[static_cast<size_t>(c)] = box;
-    f.masks[static_cast<size_t>(c)] = &m;
+    f.bases[static_cast<size_t>(c)] = m.ptr<uint8_t>(0);
+    f.steps[static_cast<size_t>(c)] = m.step[0];
     cv::Mat& sat = f.sat[static_cast<size_t>(c)];
     sat = cv::Mat(box.height + 1, box.width + 1, CV_32S, f.sat_storage[static_cast<size_t>(c)].data());
     if (box.area() > 0) cv::integral(m(box), sat, CV_32S);  // writes into our buffer: same size and type
@@ -313,30 +333,51 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
             self(self, level - 1, Eigen::Vector3i(node * 2 + Eigen::Vector3i(cx, cy, cz)), base_miss, still.data(), nstill);
       return;
     }
+    // Finest node: camera by camera over its voxels (the setup of a camera is paid once per node,
+    // and a camera that misses every voxel still alive ends the node at once).
     const size_t node_cams = p.node_index(0, node.x(), node.y(), node.z()) * static_cast<size_t>(ncam);
-    for (int z = lo.z(); z < hi.z(); ++z)
-      for (int y = lo.y(); y < hi.y(); ++y) {
-        uint64_t* row = hull.row(y, z);
-        for (int x = lo.x(); x < hi.x(); ++x) {
-          const size_t local = static_cast<size_t>(((z - lo.z()) * s + y - lo.y()) * s + x - lo.x());
-          int misses = base_miss;
-          for (int i = 0; i < nstill; ++i) {
-            const int c = still[static_cast<size_t>(i)];
-            const size_t nc = node_cams + static_cast<size_t>(c);
-            bool hit;
-            if (!p.pixels.empty() && !p.wide[nc]) {
-              const uint16_t v = p.pixels[nc * f3 + local];
-              hit = v != kUnseen && f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(rects[c].y0 + (v >> 8))[rects[c].x0 + (v & 0xff)] != 0;
-            } else {
-              int px, py;
-              hit = projectors_[static_cast<size_t>(c)].pixel(grid_.centre_mm({x, y, z}), px, py) &&
-                    f.masks[static_cast<size_t>(c)]->ptr<uint8_t>(py)[px] != 0;
-            }
-            if (!hit && ++misses > k) break;
-          }
-          if (misses <= k) row[x >> 6] |= uint64_t{1} << (x & 63);
+    std::array<uint8_t, kMaxFinestVoxels> misses;
+    std::array<uint16_t, kMaxFinestVoxels> alive_list;
+    std::fill_n(misses.begin(), f3, static_cast<uint8_t>(base_miss));
+    const int nx = hi.x() - lo.x(), ny = hi.y() - lo.y(), nz = hi.z() - lo.z();
+    size_t alive = 0;
+    for (int z = 0; z < nz; ++z)
+      for (int y = 0; y < ny; ++y)
+        for (int x = 0; x < nx; ++x) {
+          alive_list[alive++] = static_cast<uint16_t>((z * s + y) * s + x);
+        }
+    for (int i = 0; i < nstill && alive > 0; ++i) {
+      const int c = still[static_cast<size_t>(i)];
+      const size_t nc = node_cams + static_cast<size_t>(c);
+      const size_t step = f.steps[static_cast<size_t>(c)];
+      size_t kept = 0;
+      if (!p.pixels.empty() && !p.wide[nc]) {
+        const uint8_t* origin = f.bases[static_cast<size_t>(c)] + static_cast<size_t>(rects[c].y0) * step + rects[c].x0;
+        const uint16_t* pix = &p.pixels[nc * f3];
+        for (size_t a = 0; a < alive; ++a) {
+          const uint16_t local = alive_list[a];
+          const uint16_t v = pix[local];
+          const bool hit = v != kUnseen && origin[(v >> 8) * step + (v & 0xff)] != 0;
+          if (hit || ++misses[local] <= k) alive_list[kept++] = local;
+        }
+      } else {
+        const uint8_t* base = f.bases[static_cast<size_t>(c)];
+        for (size_t a = 0; a < alive; ++a) {
+          const uint16_t local = alive_list[a];
+          const Eigen::Vector3i v = lo + Eigen::Vector3i(local % s, local / s % s, local / (s * s));
+          int px, py;
+          const bool hit = projectors_[static_cast<size_t>(c)].pixel(grid_.centre_mm(v), px, py) &&
+                           base[static_cast<size_t>(py) * step + static_cast<size_t>(px)] != 0;
+          if (hit || ++misses[local] <= k) alive_list[kept++] = local;
         }
       }
+      alive = kept;
+    }
+    for (size_t a = 0; a < alive; ++a) {
+      const uint16_t local = alive_list[a];
+      const int x = lo.x() + local % s, y = lo.y() + local / s % s, z = lo.z() + local / (s * s);
+      hull.row(y, z)[x >> 6] |= uint64_t{1} << (x & 63);
+    }
   };
 
   // Threads own whole z-layers of top cells, so no two write the same hull row.

@@ -2,6 +2,7 @@
 
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/gpu/cuda_fusion.hpp"
 
 namespace hullpose::fusion {
 
@@ -20,8 +21,10 @@ FusionCore::FusionCore(const Rig& rig, const FusionOptions& options, Counters* c
     : options_(options),
       counters_(counters),
       carver_(rig, {options.resolution, options.tolerance, options.threads}),
+      backend_(gpu::resolve_backend(options.backend)),
       cleanup_(options.cleanup),
       ck3_({options.curve_rule, thin::ZeroCliqueTest::kSpan3, options.threads, 0}) {
+  if (backend_ == gpu::Backend::kCuda) cuda_ = std::make_unique<gpu::CudaFusion>(carver_, ck3_.options());
   result_.grid = carver_.grid();
   result_.hull.reset(result_.grid.dims);
   result_.skeleton.reset(result_.grid.dims);
@@ -40,7 +43,10 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
   const StageTimer total;
 
   StageTimer t;
-  carver_.carve(views, r.hull, r.carve, fg_boxes);
+  if (cuda_)
+    cuda_->carve(views, r.hull, r.carve, fg_boxes);
+  else
+    carver_.carve(views, r.hull, r.carve, fg_boxes);
   r.timings.carve_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
   if (counters_) {
     if (!r.carve.missing_cameras.empty()) counters_->add("fusion.camera_missing", static_cast<int64_t>(r.carve.missing_cameras.size()));
@@ -66,7 +72,10 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
 
   t.restart();
   r.skeleton = r.hull;  // same size: copies into the existing allocation
-  r.thin = options_.skeletoniser == Skeletoniser::kCk3 ? ck3_.thin(r.skeleton) : d6i1d_.thin(r.skeleton);
+  if (options_.skeletoniser == Skeletoniser::kD6i1d)
+    r.thin = d6i1d_.thin(r.skeleton);
+  else
+    r.thin = cuda_ ? cuda_->thin(r.skeleton) : ck3_.thin(r.skeleton);
   r.timings.thin_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
 
   t.restart();

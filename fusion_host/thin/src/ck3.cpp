@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "hullpose/thin/ck3_rules.hpp"
 #include "hullpose/thin/simple_lut.hpp"
 #include "hullpose/thin/thinning.hpp"
 #include "padded_volume.hpp"
@@ -18,17 +19,7 @@ namespace hullpose::thin {
 
 namespace {
 
-enum : uint16_t {
-  kS0 = 1 << 0,     // simple and not in K (candidate before the curve rule)
-  kSurfV = 1 << 1,  // non-simple with T̄ >= 2 (2D isthmus voxel)
-  kK = 1 << 2,      // permanent constraint
-  kSurf = 1 << 3,   // member of a 2-clique of candidates with T4̄ = 0 (Pink's "surface" pair)
-  kS = 1 << 4,      // candidate (deletable unless marked)
-  kZ2 = 1 << 5,     // marked at level 2
-  kZ1 = 1 << 6,     // marked at level 1
-  kInB = 1 << 7,    // in the border list
-  kPK = 1 << 8,     // isthmus found this iteration (joins K)
-};
+using namespace ck3;
 
 }  // namespace
 
@@ -45,7 +36,10 @@ const char* to_string(CurveRule rule) {
 struct Ck3Thinner::State {
   detail::PaddedVolume vol;
   std::vector<uint32_t> border, next_border, codes, k_list;
-  std::vector<std::vector<uint32_t>> deleted;  // per thread
+  // Flags of border-list entry i, mirrored from the volume: a pass reads its own voxel's flags
+  // in list order (sequential) and only neighbours' from the volume.
+  std::vector<uint8_t> own;
+  std::vector<std::vector<uint32_t>> deleted;  // per thread: border-list positions
   int face_off[6] = {};
 };
 
@@ -54,18 +48,15 @@ Ck3Thinner::~Ck3Thinner() = default;
 
 namespace {
 
-// Members of a clique other than x, given as 27-bit code bits, all "free" (flags & mask == want)?
-// Read lazily: most cliques of a border voxel contain an interior voxel, which fails at once.
-bool members_free(const detail::PaddedVolume& vol, uint32_t idx, uint32_t members, uint16_t mask, uint16_t want) {
-  for (uint32_t m = members & ~nb::kCentreBit; m != 0; m &= m - 1)
-    if ((vol.flags(idx + static_cast<uint32_t>(vol.offsets27()[std::countr_zero(m)])) & mask) != want) return false;
-  return true;
-}
-uint32_t plane_members(uint32_t cells, int axis) {
-  uint32_t code = 0;
-  for (uint32_t c = cells; c != 0; c &= c - 1) code |= 1u << nb::kPlaneCells.bit[axis][std::countr_zero(c)];
-  return code;
-}
+// PaddedVolume as the shared rules read it (ck3_rules.hpp).
+struct VolumeView {
+  const detail::PaddedVolume& vol;
+  const int* faces;
+  uint8_t flags(uint32_t idx) const { return vol.flags(idx); }
+  bool get(uint32_t idx) const { return vol.get(idx); }
+  int off27(int bit) const { return vol.offsets27()[bit]; }
+  int face(int d) const { return faces[d]; }
+};
 
 }  // namespace
 
@@ -73,8 +64,9 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   State& s = *state_;
   detail::PaddedVolume& vol = s.vol;
   ThinStats stats;
-  stats.initial_voxels = volume.count();
   vol.load(volume, constraint, kK, kInB, s.border, s.k_list);
+  stats.initial_voxels = vol.voxels();
+  size_t removed_total = 0;
   for (int d = 0; d < 6; ++d) {
     const auto& [axis, sign] = detail::kDirections[d];
     s.face_off[d] = vol.offset(axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0);
@@ -82,192 +74,91 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   const int threads = std::max(1, options_.threads);
   s.deleted.resize(static_cast<size_t>(threads));
   const CurveRule rule = options_.rule;
-  const bool antipodal = options_.zero_clique == ZeroCliqueTest::kAntipodal;
-  const auto& rings = detail::kRingTables;
+  const RuleTables& tables = host_rule_tables();
+  const VolumeView view{vol, s.face_off};
   int iterations = 0;
+  auto set = [&](size_t i, uint32_t idx, uint8_t f) {
+    s.own[i] = f;
+    vol.set_flags(idx, f);
+  };
 
   while (!s.border.empty()) {
     const std::vector<uint32_t>& border = s.border;
     const size_t n = border.size();
     s.codes.resize(n);
+    s.own.resize(n);
     stats.visited += n;
     const bool parallel = threads > 1 && n >= static_cast<size_t>(std::max(0, options_.min_parallel_border));
 
-#pragma omp parallel num_threads(threads) if (parallel)
-    {
+    // The passes, as orphaned worksharing loops: run by every thread of a team, or directly by
+    // this thread when the iteration is too small to share (no OpenMP team set up at all). The
+    // per-voxel decisions are ck3_rules.hpp's, shared with the CUDA backend.
+    auto passes = [&] {
       const int tid = omp_get_thread_num();
-      // 1. Classify: code, simple, 2D isthmus, constraints of the end-voxel and isthmus rules.
+      // Each pass: the voxel's new flags from its own, its code and its neighbours' flags.
+      auto pass = [&](auto&& rule_fn) {
 #pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        const uint32_t code = vol.code(idx);
-        s.codes[i] = code;
-        uint16_t f = kInB;
-        const bool simple = is_simple(code);
-        if (rule == CurveRule::kEndVoxel && std::popcount(code & ~nb::kCentreBit) == 1) f |= kK;
-        if (rule == CurveRule::kIsthmus && !simple && tbar_class(code) == 1 && nb::t26(code, 3) == 2) f |= kK;
-        if (!(f & kK)) {
-          if (simple) {
-            f |= kS0;
-            if (rule == CurveRule::kUltimate || rule == CurveRule::kEndVoxel) f |= kS;
-          } else if (tbar_class(code) >= 2) {
-            f |= kSurfV;
-          }
+        for (size_t i = 0; i < n; ++i) {
+          const uint8_t f = s.own[i];
+          const uint8_t nf = rule_fn(border[i], s.codes[i], f);
+          if (nf != f) set(i, border[i], nf);
         }
-        vol.set_flags(idx, f);
+      };
+      // 1. Codes first, prefetching each one's word of the 8 MiB simple-point LUT, whose misses
+      // otherwise dominate the classification. Same static schedule as the next loop, so each
+      // thread reads back only codes it wrote (no barrier needed).
+#pragma omp for schedule(static) nowait
+      for (size_t i = 0; i < n; ++i) {
+        const uint32_t code = vol.code(border[i]);
+        s.codes[i] = code;
+        prefetch_simple(code);
       }
+#pragma omp for schedule(static)
+      for (size_t i = 0; i < n; ++i) set(i, border[i], classify(tables, rule, s.codes[i]));
 
       // 2. Curve rule.
       if (rule == CurveRule::kCk3) {
-        // Surface 2-cliques: both voxels candidates, all four axial ring positions occupied.
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
-          if (!(f & kS0)) continue;
-          for (int d = 0; d < 6; ++d) {
-            const auto& [axis, sign] = detail::kDirections[d];
-            if ((vol.flags(idx + s.face_off[d]) & kS0) &&
-                (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingFull4)) {
-              vol.set_flags(idx, f | kSurf);
-              break;
-            }
-          }
-        }
-        // Residual voxels (no interior 6-neighbour) with no surface 26-neighbour are curve
-        // voxels: not deletable in this iteration (notes §3.3).
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
-          if (!(f & kS0)) continue;
-          const uint32_t code = s.codes[i];
-          bool residual = true;
-          for (int d = 0; d < 6 && residual; ++d) {
-            const uint32_t m = detail::kInteriorMask[d];
-            if ((code & m) == m && vol.get(idx + 2 * s.face_off[d])) residual = false;
-          }
-          // Only object neighbours can carry surface marks.
-          const bool curve = residual && members_free(vol, idx, code, kSurf | kSurfV, 0);
-          if (!curve) vol.set_flags(idx, f | kS);
-        }
+        pass([&](uint32_t idx, uint32_t code, uint8_t f) { return ck3_surface(view, tables, idx, code, f); });
+        pass([&](uint32_t idx, uint32_t code, uint8_t f) { return ck3_candidate(view, tables, idx, code, f); });
       } else if (rule == CurveRule::kIsthmus) {
-        // 2-clique isthmus (T4̄ != 0, T8 = 2), recording crucial 2-cliques for the 1-clique step.
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t idx = border[i];
-          uint16_t f = vol.flags(idx);
-          if (!(f & kS0)) continue;
-          for (int d = 0; d < 6; ++d) {
-            const auto& [axis, sign] = detail::kDirections[d];
-            if (!(vol.flags(idx + s.face_off[d]) & kS0)) continue;
-            const uint8_t r = rings.bits[nb::pair_ring(s.codes[i], axis, sign)];
-            if (r & detail::kRingCrucial) f |= kZ2;
-            if (r & detail::kRingIsthmus) f |= kPK;
-          }
-          vol.set_flags(idx, f);
-        }
-        // 1-clique isthmus: candidates only, none marked at the 2-clique step, both caps non-empty.
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
-          if ((f & (kS0 | kZ2)) != kS0) continue;
-          const uint32_t code = s.codes[i];
-          bool isthmus = false;
-          for (int axis = 0; axis < 3 && !isthmus; ++axis) {
-            const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
-            for (const nb::Quadrant& q : nb::kQuadrants)
-              if (nb::quadrant_has_diagonal(p0, q) && (lo & q.cells) && (hi & q.cells) &&
-                  members_free(vol, idx, plane_members(p0 & q.cells, axis), kS0 | kZ2, kS0)) {
-                isthmus = true;
-                break;
-              }
-          }
-          if (isthmus) vol.set_flags(idx, f | kPK);
-        }
-        // Isthmuses join K for good; the other candidates go on, marks cleared.
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t idx = border[i];
-          const uint16_t f = vol.flags(idx);
-          if (f & kPK)
-            vol.set_flags(idx, kInB | kK);
-          else if (f & kS0)
-            vol.set_flags(idx, static_cast<uint16_t>((f & ~kZ2) | kS));
-        }
+        pass([&](uint32_t idx, uint32_t code, uint8_t f) { return isthmus_pairs(view, tables, idx, code, f); });
+        pass([&](uint32_t idx, uint32_t code, uint8_t f) { return isthmus_edges(view, tables, idx, code, f); });
+        pass([&](uint32_t, uint32_t, uint8_t f) { return isthmus_settle(f); });
       }
-
-      // 3. Level 2: crucial 2-cliques of two candidates.
-#pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
-        if (!(f & kS)) continue;
-        for (int d = 0; d < 6; ++d) {
-          const auto& [axis, sign] = detail::kDirections[d];
-          if ((vol.flags(idx + s.face_off[d]) & kS) &&
-              (rings.bits[nb::pair_ring(s.codes[i], axis, sign)] & detail::kRingCrucial)) {
-            vol.set_flags(idx, f | kZ2);
-            break;
-          }
-        }
-      }
-      // 4. Level 1: crucial 1-cliques of unmarked candidates (level-2 marks only).
-#pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
-        if ((f & (kS | kZ2)) != kS) continue;
-        const uint32_t code = s.codes[i];
-        bool marked = false;
-        for (int axis = 0; axis < 3 && !marked; ++axis) {
-          const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
-          for (const nb::Quadrant& q : nb::kQuadrants)
-            if (nb::quadrant_has_diagonal(p0, q) && nb::edge_crucial(lo, hi, q) &&
-                members_free(vol, idx, plane_members(p0 & q.cells, axis), kS | kZ2, kS)) {
-              marked = true;
-              break;
-            }
-        }
-        if (marked) vol.set_flags(idx, f | kZ1);
-      }
-      // 5. Level 0: essential 0-cliques of unmarked candidates; what stays unmarked is deleted.
+      // 3.-4. Levels 2 and 1.
+      pass([&](uint32_t idx, uint32_t code, uint8_t f) { return level2(view, tables, idx, code, f); });
+      pass([&](uint32_t idx, uint32_t code, uint8_t f) { return level1(view, tables, idx, code, f); });
+      // 5. Level 0: what stays unmarked is deleted.
       std::vector<uint32_t>& deleted = s.deleted[static_cast<size_t>(tid)];
 #pragma omp for schedule(static)
-      for (size_t i = 0; i < n; ++i) {
-        const uint32_t idx = border[i];
-        const uint16_t f = vol.flags(idx);
-        if ((f & (kS | kZ2 | kZ1)) != kS) continue;
-        const uint32_t code = s.codes[i];
-        bool marked = false;
-        for (const nb::Octant& o : nb::kOctants) {
-          const uint32_t block = code & o.cells;
-          if ((antipodal ? nb::block_antipodal(block, o) : nb::block_spans3(block, o)) &&
-              members_free(vol, idx, block, kS | kZ2 | kZ1, kS)) {
-            marked = true;
-            break;
-          }
-        }
-        if (!marked) deleted.push_back(idx);
-      }
+      for (size_t i = 0; i < n; ++i)
+        if (level0_deletes(view, tables, border[i], s.codes[i], s.own[i], options_.zero_clique))
+          deleted.push_back(static_cast<uint32_t>(i));
+    };
+    if (parallel) {
+#pragma omp parallel num_threads(threads)
+      passes();
+    } else {
+      passes();
     }
 
     // 6. Delete, grow the border list with newly exposed voxels, move K out of it.
     size_t removed = 0, constrained = 0;
     for (auto& list : s.deleted) {
-      for (uint32_t idx : list) {
-        vol.clear(idx);
-        vol.set_flags(idx, 0);
+      for (uint32_t i : list) {
+        vol.clear(s.border[i]);
+        set(i, s.border[i], 0);
       }
       removed += list.size();
+      removed_total += list.size();
     }
     s.next_border.clear();
-    for (uint32_t idx : s.border) {
-      const uint16_t f = vol.flags(idx);
+    for (size_t i = 0; i < s.border.size(); ++i) {
+      const uint32_t idx = s.border[i];
+      const uint8_t f = s.own[i];
       if (f == 0) continue;  // deleted
       if (f & kK) {
-        vol.set_flags(idx, kK);
+        set(i, idx, kK);
         s.k_list.push_back(idx);
         ++constrained;
       } else {
@@ -275,9 +166,9 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
       }
     }
     for (auto& list : s.deleted) {
-      for (uint32_t idx : list)
+      for (uint32_t i : list)
         for (int d = 0; d < 6; ++d) {
-          const uint32_t q = idx + static_cast<uint32_t>(s.face_off[d]);
+          const uint32_t q = s.border[i] + static_cast<uint32_t>(s.face_off[d]);
           if (vol.get(q) && vol.flags(q) == 0) {
             vol.set_flags(q, kInB);
             s.next_border.push_back(q);
@@ -297,9 +188,31 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
   vol.zero_flags(s.border);
   vol.zero_flags(s.k_list);
   stats.iterations = iterations;
-  stats.final_voxels = volume.count();
+  stats.final_voxels = stats.initial_voxels - removed_total;
   stats.constrained = s.k_list.size();
   return stats;
 }
 
 }  // namespace hullpose::thin
+
+namespace hullpose::thin::ck3 {
+
+const RuleTables& host_rule_tables() {
+  static const RuleTables tables = [] {
+    RuleTables t;
+    t.simple_lut = hullpose_simple_lut;
+    t.tbar_lut = hullpose_tbar_lut;
+    for (int byte = 0; byte < 4; ++byte)
+      for (uint32_t x = 0; x < 256; ++x) t.n18_bytes[byte][x] = nb::n18_index(x << (8 * byte));
+    for (size_t g = 0; g < 512; ++g) t.ring[g] = detail::kRingTables.bits[g];
+    for (int d = 0; d < 6; ++d) t.interior_mask[d] = detail::kInteriorMask[static_cast<size_t>(d)];
+    for (int q = 0; q < 4; ++q) t.quadrants[q] = nb::kQuadrants[q];
+    for (int o = 0; o < 8; ++o) t.octants[o] = nb::kOctants[o];
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 9; ++c) t.plane_bit[a][c] = static_cast<uint8_t>(nb::kPlaneCells.bit[a][c]);
+    return t;
+  }();
+  return tables;
+}
+
+}  // namespace hullpose::thin::ck3

@@ -17,7 +17,7 @@ namespace hullpose::thin {
 
 namespace {
 
-enum : uint16_t { kK = 1, kInB = 2 };
+enum : uint8_t { kK = 1, kInB = 2 };
 
 // Neighbourhood offsets r ordered before the centre for direction d: (sign * r_axis, r_z, r_y, r_x)
 // lexicographically smaller than zero.
@@ -64,7 +64,7 @@ bool deletable(uint32_t code, int d) {
     const auto [axis, sign] = detail::kDirections[e];
     const uint32_t eb = 1u << nb::bit(axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0);
     if (!(code & eb) || (eb & before)) continue;  // not a clique, or x is not its keeper
-    if (detail::kRingTables.bits[nb::pair_ring(code, axis, sign)] & detail::kRingCrucial) return false;
+    if (detail::kRingTables.bits[nb::pair_ring(code, axis, sign)] & ck3::kRingCrucial) return false;
   }
   for (int axis = 0; axis < 3; ++axis) {  // 1-cliques around the 12 edges of x
     const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);

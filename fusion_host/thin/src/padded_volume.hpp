@@ -1,6 +1,6 @@
 #pragma once
-// The thinners' working volume: the object as bit rows with 2 background voxels of padding on
-// every side (clique tests read up to 2 voxels away, notes §0), a per-voxel flag word, and the
+// The thinners' working volume: the object's bounding box as bit rows with 2 background voxels
+// of padding on every side (clique tests read up to 2 voxels away, notes §0), a per-voxel flag word, and the
 // border list. Internal to hullpose_thin.
 #include <atomic>
 #include <bit>
@@ -20,8 +20,10 @@ class PaddedVolume {
   // Copies `grid` in (and `constraint`'s object voxels into flag `k_flag`); fills `border` with
   // the 6-border voxels not in K and sets `inb_flag` on them. Flags must be all zero on entry
   // (zero_flags() restores that), so a frame never pays for clearing the whole flag volume.
-  void load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint16_t k_flag, uint16_t inb_flag,
+  void load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint8_t k_flag, uint8_t inb_flag,
             std::vector<uint32_t>& border, std::vector<uint32_t>& k_list);
+  // Object voxels counted by the last load().
+  size_t voxels() const { return voxels_; }
   // Writes the object back into `grid` (same dims as loaded) and K into `constraint`.
   void store(fusion::BitGrid& grid, fusion::BitGrid* constraint, const std::vector<uint32_t>& k_list) const;
 
@@ -60,10 +62,10 @@ class PaddedVolume {
 
   // Per-voxel flags; each pass writes only the flags of the voxel it evaluates while other
   // threads read neighbours', hence relaxed atomics (plain moves on x86).
-  uint16_t flags(uint32_t idx) const {
-    return std::atomic_ref<uint16_t>(const_cast<uint16_t&>(flags_[idx])).load(std::memory_order_relaxed);
+  uint8_t flags(uint32_t idx) const {
+    return std::atomic_ref<uint8_t>(const_cast<uint8_t&>(flags_[idx])).load(std::memory_order_relaxed);
   }
-  void set_flags(uint32_t idx, uint16_t f) { std::atomic_ref<uint16_t>(flags_[idx]).store(f, std::memory_order_relaxed); }
+  void set_flags(uint32_t idx, uint8_t f) { std::atomic_ref<uint8_t>(flags_[idx]).store(f, std::memory_order_relaxed); }
   // Back to the all-zero flag invariant for the listed voxels (call at the end of a frame with
   // every voxel whose flags were set).
   void zero_flags(const std::vector<uint32_t>& list) {
@@ -76,9 +78,12 @@ class PaddedVolume {
   uint32_t mask_ = 0;
   size_t words_ = 0;  // per padded row, including one spare word for the unaligned reads
   int off27_[27] = {};
-  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // the grid's
+  Eigen::Vector3i lo_ = Eigen::Vector3i::Zero();    // grid coordinates of the object's bounding box corner
+  std::vector<uint64_t> column_or_;
+  size_t voxels_ = 0;
   std::vector<uint64_t> rows_;
-  std::vector<uint16_t> flags_;
+  std::vector<uint8_t> flags_;
 };
 
 }  // namespace hullpose::thin::detail

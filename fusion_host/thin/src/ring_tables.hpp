@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 
+#include "hullpose/thin/ck3_rules.hpp"
 #include "hullpose/thin/neighbourhood.hpp"
 
 namespace hullpose::thin::detail {
@@ -34,16 +35,15 @@ constexpr std::array<uint32_t, 6> make_interior_masks() {
 }
 inline constexpr std::array<uint32_t, 6> kInteriorMask = make_interior_masks();
 
-// Per 9-bit ring grid (centre ignored): crucial 2-clique, 1D isthmus 2-clique, T4̄ = 0.
-enum : uint8_t { kRingCrucial = 1, kRingIsthmus = 2, kRingFull4 = 4 };
+// Per 9-bit ring grid (centre ignored): ck3::kRingCrucial, kRingIsthmus, kRingFull4.
 struct RingTables {
   std::array<uint8_t, 512> bits{};
   constexpr RingTables() {
     for (uint32_t g = 0; g < 512; ++g) {
       const uint32_t r = g & ~0x10u;
       const int t8 = nb::ring_t8(r), t4b = nb::ring_t4bar(r);
-      bits[g] = static_cast<uint8_t>((!(t8 == 1 && t4b == 1) ? kRingCrucial : 0) |
-                                     (t4b != 0 && t8 == 2 ? kRingIsthmus : 0) | (t4b == 0 ? kRingFull4 : 0));
+      bits[g] = static_cast<uint8_t>((!(t8 == 1 && t4b == 1) ? ck3::kRingCrucial : 0) |
+                                     (t4b != 0 && t8 == 2 ? ck3::kRingIsthmus : 0) | (t4b == 0 ? ck3::kRingFull4 : 0));
     }
   }
 };

@@ -17,10 +17,11 @@
 // an integral image of each silhouette's foreground box, then classifies nodes per camera as all
 // inside (the rectangle is all foreground), all outside (no foreground) or mixed, counts misses
 // and only descends into nodes that are still undecided. Voxels of undecided finest nodes are
-// tested at their pixel, read from a per-voxel table computed at construction with the same
-// VoxelProjector as the reference (2 bytes per voxel and camera, up to 64 MiB: 128³ with 8
-// cameras), or projected on the fly beyond that. Either way the result equals
-// carve_brute_force() voxel for voxel by construction (checked in tests/fusion/test_carve).
+// tested camera by camera at their pixel, read from a per-voxel table computed at construction
+// with the same projection as the reference (2 bytes per voxel and camera, up to 64 MiB: 128³
+// with 8 cameras), or projected on the fly beyond that. Either way the result equals
+// carve_brute_force() voxel for voxel by construction (checked in tests/fusion/test_carve,
+// test_carve_large and test_cmu at 64³, 128³ and 256³). Resolutions up to 575.
 //
 // Lifecycle: construct once per (rig, resolution, tolerance); carve() per frame reuses all
 // buffers (no allocation at steady state).
@@ -35,40 +36,27 @@
 #include "hullpose/common/rig.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
 #include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/carve/voxel_test.hpp"
 #include "hullpose/fusion/bit_grid.hpp"
 
 namespace hullpose::carve {
 
-// World point -> nearest pixel, the single definition shared by the fast path and the reference.
-// Same model as CameraModel::project (pinhole + OpenCV k1 k2 p1 p2 k3), inlined.
+// World point -> nearest pixel, the single definition shared by the fast path, the reference
+// and the CUDA backend (voxel_test.hpp). Same model as CameraModel::project.
 class VoxelProjector {
  public:
   VoxelProjector() = default;
   explicit VoxelProjector(const CameraModel& camera);
   // False if the point is not in front of the camera or its pixel is outside the image.
   bool pixel(const Eigen::Vector3d& world, int& px, int& py) const {
-    const Eigen::Vector3d pc = R_ * world + t_;
-    if (!(pc.z() > 0)) return false;
-    const double x = pc.x() / pc.z(), y = pc.y() / pc.z();
-    const double r2 = x * x + y * y;
-    const double radial = 1 + r2 * (k1_ + r2 * (k2_ + r2 * k3_));
-    const double xd = x * radial + 2 * p1_ * x * y + p2_ * (r2 + 2 * x * x);
-    const double yd = y * radial + p1_ * (r2 + 2 * y * y) + 2 * p2_ * x * y;
-    const double u = fx_ * xd + cx_, v = fy_ * yd + cy_;
-    // Compare as doubles first: a far-off point must not overflow the int conversion.
-    if (!(u >= -0.5 && v >= -0.5 && u < width_ - 0.5 && v < height_ - 0.5)) return false;
-    px = static_cast<int>(u + 0.5);
-    py = static_cast<int>(v + 0.5);
-    return true;
+    return project_to_pixel(params_, world.x(), world.y(), world.z(), px, py);
   }
-  int width() const { return width_; }
-  int height() const { return height_; }
+  int width() const { return params_.width; }
+  int height() const { return params_.height; }
+  const CameraParams& params() const { return params_; }
 
  private:
-  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
-  double fx_ = 0, fy_ = 0, cx_ = 0, cy_ = 0, k1_ = 0, k2_ = 0, p1_ = 0, p2_ = 0, k3_ = 0;
-  int width_ = 0, height_ = 0;
+  CameraParams params_;
 };
 
 struct CarveOptions {
@@ -108,11 +96,14 @@ class Carver {
   // Reference: every voxel centre projected into every present camera (tests, benchmarks).
   void carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report) const;
 
+  // Which views are usable; fills the report's camera lists and validity, and `present` with the
+  // indices of the usable views. Shared with the CUDA backend. Throws on a wrong view count.
+  void check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const;
+  const std::vector<VoxelProjector>& projectors() const { return projectors_; }
+
  private:
   struct Precomputed;
   struct Frame;
-  // Which views are usable; fills the report's camera lists. Returns the present camera indices.
-  void check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const;
 
   Rig rig_;
   CarveOptions options_;

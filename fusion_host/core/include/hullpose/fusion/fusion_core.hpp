@@ -22,7 +22,12 @@
 #include "hullpose/common/voxel_grid.hpp"
 #include "hullpose/fusion/bit_grid.hpp"
 #include "hullpose/fusion/hull_cleanup.hpp"
+#include "hullpose/gpu/backend.hpp"
 #include "hullpose/thin/thinning.hpp"
+
+namespace hullpose::gpu {
+class CudaFusion;
+}
 
 namespace hullpose::fusion {
 
@@ -38,6 +43,9 @@ struct FusionOptions {
   Skeletoniser skeletoniser = Skeletoniser::kCk3;
   thin::CurveRule curve_rule = thin::CurveRule::kCk3;  // CK3's curve constraint
   CleanupOptions cleanup;
+  // Carving and CK3 on the CPU or the GPU (`--backend`); auto = CUDA if this build has it and a
+  // device is present, else the CPU (logged). D6I1D and clean-up always run on the CPU.
+  gpu::Backend backend = gpu::Backend::kAuto;
 };
 
 struct StageTimings {
@@ -62,7 +70,7 @@ struct FusionResult {
 
 class FusionCore {
  public:
-  // Throws hullpose::Error on a bad rig or options. `counters`, if given, must outlive this.
+  // Throws hullpose::Error on a bad rig or options, or `--backend cuda` without a usable device. `counters`, if given, must outlive this.
   FusionCore(const Rig& rig, const FusionOptions& options, Counters* counters = nullptr);
   ~FusionCore();
   FusionCore(const FusionCore&) = delete;
@@ -74,11 +82,15 @@ class FusionCore {
 
   const VoxelGridSpec& grid() const { return carver_.grid(); }
   const FusionOptions& options() const { return options_; }
+  // The backend in use: kCpu or kCuda (auto resolved at construction).
+  gpu::Backend backend() const { return backend_; }
 
  private:
   FusionOptions options_;
   Counters* counters_;
   carve::Carver carver_;
+  gpu::Backend backend_;
+  std::unique_ptr<gpu::CudaFusion> cuda_;  // set iff backend_ == kCuda
   HullCleanup cleanup_;
   thin::Ck3Thinner ck3_;
   thin::D6i1dThinner d6i1d_;

@@ -21,6 +21,9 @@ inline bool is_simple(uint32_t code) {
   return (hullpose_simple_lut[i >> 6] >> (i & 63) & 1u) != 0;
 }
 
+// Starts loading the LUT word of `code` (is_simple's only cache miss) ahead of its use.
+inline void prefetch_simple(uint32_t code) { __builtin_prefetch(&hullpose_simple_lut[nb::lut_index(code) >> 6]); }
+
 // The N18* bits of a code compacted to 18 bits, by table (4 byte lookups).
 uint32_t n18_index_fast(uint32_t code);
 

@@ -20,21 +20,11 @@
 #include <vector>
 
 #include "hullpose/fusion/bit_grid.hpp"
+#include "hullpose/thin/rules.hpp"
 
 namespace hullpose::thin {
 
-enum class CurveRule {
-  kUltimate,  // no constraint: the ultimate skeleton (tests, notes §3)
-  kCk3,       // thesis' curve(v): Pink lskelCK3 residual points + 2D isthmus (notes §3.3, §3.4) — default
-  kIsthmus,   // CK3a: 1D isthmuses accumulated into K (notes §3.1)
-  kEndVoxel,  // EK3: voxels with exactly one 26-neighbour accumulated into K (notes §3.2)
-};
 const char* to_string(CurveRule rule);
-
-enum class ZeroCliqueTest {
-  kSpan3,      // correct: Q ∩ X spans all three axes (notes §2.4)
-  kAntipodal,  // Pink / DGtal: an antipodal pair (misses cases, breaks topology; comparison only)
-};
 
 struct ThinOptions {
   CurveRule rule = CurveRule::kCk3;
