@@ -17,6 +17,7 @@ TriggerClient::TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerCon
   HULLPOSE_THROW_UNLESS(bus_.good(), "trigger client: the LCM handle is not usable");
   subscription_ = bus_.subscribe(channel, &TriggerClient::on_trigger, this);
   tagged_.reserve(MapperConfig::kEdges);
+  for (const char* name : {"malformed_trigger", "tag_after_timeout", "untagged_frame", "overrun"}) counters_.add(name, 0);
 }
 
 TriggerClient::~TriggerClient() { bus_.unsubscribe(subscription_); }
@@ -30,27 +31,51 @@ void TriggerClient::on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string
   listener_.on_announcement(msg_, node_now_());
 }
 
-std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
-  // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
-  const int64_t frame_us = frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
-  listener_.on_frame(frame_id, frame_us);
+template <class Done>
+bool TriggerClient::pump(int wait_ms, Done&& done) {
   const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
   for (;;) {
     pollfd fds[2] = {{bus_.getFileno(), POLLIN, 0}, {edges_.fd(), POLLIN, 0}};
     while (::poll(fds, 1, 0) > 0 && (fds[0].revents & POLLIN)) bus_.handle();
-    tagged_.clear();
+    const size_t before = tagged_.size();
     listener_.poll(node_now_(), tagged_);
-    for (const TaggedFrame& t : tagged_) {
-      if (t.frame_id == frame_id) return t;
-      counters_.add("tag_after_timeout");  // an earlier frame, already given up on
-    }
+    if (done(before)) return true;
     const int64_t left_us = until - monotonic_us();
-    if (left_us <= 0) break;
+    if (left_us <= 0) return false;
     const int timeout = static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5));
     ::poll(fds, edges_.fd() >= 0 ? 2 : 1, timeout);
   }
-  counters_.add("untagged_frame");
-  return std::nullopt;
+}
+
+std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
+  // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
+  const int64_t frame_us = frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
+  listener_.on_frame(frame_id, frame_us);
+  std::optional<TaggedFrame> found;
+  tagged_.clear();
+  pump(wait_ms, [&](size_t from) {
+    for (size_t i = from; i < tagged_.size(); ++i) {
+      if (tagged_[i].frame_id == frame_id) {
+        found = tagged_[i];
+      } else {
+        counters_.add("tag_after_timeout");  // an earlier frame, already given up on
+      }
+    }
+    tagged_.clear();
+    return found.has_value();
+  });
+  if (!found) counters_.add("untagged_frame");
+  return found;
+}
+
+std::optional<TaggedFrame> TriggerClient::next_exposure(int wait_ms) {
+  tagged_.clear();
+  if (!pump(wait_ms, [&](size_t) { return !tagged_.empty(); })) return std::nullopt;
+  // A sensor still busy with an earlier frame when the next edge came has been overrun, like a
+  // camera whose buffers are all in use: only the newest exposure is kept, so a node that falls
+  // behind catches up instead of publishing ever later (the host would drop those as late).
+  counters_.add("overrun", static_cast<int64_t>(tagged_.size()) - 1);
+  return tagged_.back();
 }
 
 }  // namespace hullpose::trigger

@@ -15,6 +15,9 @@ namespace hullpose::trigger {
 
 struct ListenerConfig {
   std::string rig_id;
+  // >= 0: a simulated sensor that exposes one frame at every edge, this long after it (the
+  // listener feeds those frames to the matcher itself); < 0: frames come through on_frame().
+  int64_t expose_after_edge_us = -1;
   MapperConfig mapper;
   FrameMatcherConfig matcher;
 };
@@ -39,6 +42,7 @@ class TriggerListener {
   FrameMatcher matcher_;
   std::vector<MappedEdge> mapped_;
   int64_t foreign_ = 0;
+  int64_t exposed_ = 0;  // frame ids of the simulated sensor
 };
 
 }  // namespace hullpose::trigger
