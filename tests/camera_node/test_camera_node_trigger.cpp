@@ -114,7 +114,7 @@ TEST_CASE("a triggered node publishes one silhouette per trigger edge, showing t
     INFO("trigger " << seq << ", clock offset " << offset_ms << " ms");
     REQUIRE(decode_silhouette(m.payload, {}, decoded) == CodecError::kNone);
     CHECK(cv::countNonZero(decoded != frame_mask(static_cast<int>(seq))) == 0);
-    // Times are on the master's clock (not 2 s off): exposure 200 us after the edge, give or take
+    // Times are on the master's clock (not 2 s off): exposure at the edge, give or take
     // the master's own scheduling between driving the line and reading its clock.
     CHECK(std::abs(m.capture_utime - m.utime) < 20'000);
     CHECK(m.node_done_utime >= m.capture_utime);

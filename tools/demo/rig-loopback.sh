@@ -8,6 +8,10 @@
 # The master starts pulsing once all NUM nodes are connected to its wire (nodes may take a while
 # to load), so no trigger is lost to start-up. Leaves in WORK: skeletons.csv, estimates.csv (frame = trigger_seq), summary.json, *.log.
 # With LIVE=1 the listener prints fps and latency every second.
+# Priorities: on a real rig every camera node has a board of its own; here 8 nodes share the
+# cores with the fusion host, and 8 nodes waking at the same trigger edge would starve it just
+# when their silhouettes arrive. So the nodes run at nice HULLPOSE_NODE_NICE (default 10): the
+# host and the master go first, the nodes use the rest (measured in make bench, issue 7).
 set -euo pipefail
 build=$(cd "$1" && pwd) work=$2 frames=$3 rate=$4 num=$5 node_cmd=$6 host_cmd=$7
 port=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
@@ -41,7 +45,7 @@ wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
 wait_for 10 "$wire"
 for ((c = 0; c < num; c++)); do
   # shellcheck disable=SC2046
-  $(fill "$node_cmd" "$c") 2> "$work/cam$c.log" & pids+=($!)
+  nice -n "${HULLPOSE_NODE_NICE:-10}" $(fill "$node_cmd" "$c") 2> "$work/cam$c.log" & pids+=($!)
 done
 wait "$master" || { echo "rig: trigger master failed:" >&2; cat "$work/master.log" >&2; exit 1; }
 [[ ${LIVE:-0} == 1 ]] && tail -n 1 "$work/master.log" >&2

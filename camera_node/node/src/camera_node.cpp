@@ -189,6 +189,7 @@ void CameraNode::run(const std::atomic<bool>& stop_requested) {
       continue;
     }
     process(frame, *stamp);
+    if (exposes_on_trigger) source_->prepare(stamp->seq + 1);  // the next trigger's, usually
   }
 }
 

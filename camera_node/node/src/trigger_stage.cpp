@@ -7,8 +7,8 @@
 namespace hullpose::camera_node {
 namespace {
 HULLPOSE_LOG_CATEGORY(Stage, "camera_node")
-// A simulated sensor starts its exposure this long after the edge (a real sensor's trigger delay).
-constexpr int64_t kSimulatedExposureDelayUs = 200;
+// A simulated sensor exposes at the edge: its frame is ready at once (no readout to wait for).
+constexpr int64_t kSimulatedExposureDelayUs = 0;
 }  // namespace
 
 TriggerStage::TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,

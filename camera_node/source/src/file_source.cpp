@@ -90,6 +90,7 @@ void FileSource::start() {
                                                         << path_);
   }
   exposed_index_ = -1;
+  prepared_index_ = -1;
   if (pattern_) {
     count_ = 0;
     while (std::filesystem::exists(IndexPattern{prefix_, suffix_, width_}.at(first_index_ + count_))) ++count_;
@@ -106,11 +107,24 @@ void FileSource::start() {
   }
 }
 
-void FileSource::expose(int64_t trigger_seq, int64_t capture_utime) {
+int64_t FileSource::frame_of(int64_t trigger_seq) const {
   HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << camera_id_ << ": file source: trigger sequence "
                                                     << trigger_seq << " is negative");
-  exposed_index_ = loop_ && count_ > 0 ? trigger_seq % count_ : std::min<int64_t>(trigger_seq, 1 << 30);
+  return loop_ && count_ > 0 ? trigger_seq % count_ : std::min<int64_t>(trigger_seq, 1 << 30);
+}
+
+void FileSource::expose(int64_t trigger_seq, int64_t capture_utime) {
+  exposed_index_ = frame_of(trigger_seq);
   exposed_utime_ = capture_utime;
+}
+
+void FileSource::prepare(int64_t trigger_seq) {
+  const int index = static_cast<int>(frame_of(trigger_seq));
+  if (!pattern_ || preload_ || index == prepared_index_ || (count_ >= 0 && index >= count_)) return;
+  const int saved = next_index_;
+  next_index_ = index;
+  prepared_index_ = read_next(prepared_) ? index : -1;
+  next_index_ = saved;
 }
 
 void FileSource::seek(int index) {
@@ -133,6 +147,12 @@ GrabStatus FileSource::grab(Frame& frame, int /*timeout_ms*/) {
       frame.image = frames_[static_cast<size_t>(next_index_++)];
       ok = true;
     }
+  } else if (exposed && next_index_ == prepared_index_) {
+    std::swap(image_, prepared_);  // decoded while the node waited for this trigger
+    prepared_index_ = -1;
+    ++next_index_;
+    ok = true;
+    frame.image = image_;
   } else {
     ok = read_next(image_);
     if (!ok && loop && delivered_ > 0) {

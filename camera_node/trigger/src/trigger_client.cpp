@@ -35,15 +35,21 @@ template <class Done>
 bool TriggerClient::pump(int wait_ms, Done&& done) {
   const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
   for (;;) {
-    pollfd fds[2] = {{bus_.getFileno(), POLLIN, 0}, {edges_.fd(), POLLIN, 0}};
-    while (::poll(fds, 1, 0) > 0 && (fds[0].revents & POLLIN)) bus_.handle();
+    pollfd fds[2] = {{edges_.fd(), POLLIN, 0}, {bus_.getFileno(), POLLIN, 0}};
+    while (::poll(&fds[1], 1, 0) > 0 && (fds[1].revents & POLLIN)) bus_.handle();
     const size_t before = tagged_.size();
     listener_.poll(node_now_(), tagged_);
     if (done(before)) return true;
     const int64_t left_us = until - monotonic_us();
     if (left_us <= 0) return false;
-    const int timeout = static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5));
-    ::poll(fds, edges_.fd() >= 0 ? 2 : 1, timeout);
+    if (fds[0].fd >= 0 && listener_.idle()) {
+      // Nothing pending: sleep until the next edge. The bus carries the whole rig's traffic (every
+      // node's silhouettes); its TRIGGER announcement follows the edge within a fraction of a
+      // millisecond and is handled then, so the node wakes once per trigger, not once per message.
+      ::poll(&fds[0], 1, static_cast<int>(1 + left_us / 1000));
+    } else {
+      ::poll(fds[0].fd >= 0 ? fds : &fds[1], fds[0].fd >= 0 ? 2 : 1, static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5)));
+    }
   }
 }
 

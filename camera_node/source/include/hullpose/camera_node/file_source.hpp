@@ -24,10 +24,12 @@ class FileSource final : public FrameSource {
   std::string describe() const override;
   bool triggerable() const override { return true; }
   void expose(int64_t trigger_seq, int64_t capture_utime) override;
+  void prepare(int64_t trigger_seq) override;
 
  private:
   bool read_next(cv::Mat& out);
   void seek(int index);
+  int64_t frame_of(int64_t trigger_seq) const;
   std::string path_;
   bool pattern_ = false;
   std::string prefix_, suffix_;  // an image sequence's path around the index ...
@@ -48,6 +50,8 @@ class FileSource final : public FrameSource {
   int64_t delivered_ = 0;
   int64_t t0_ = 0;
   cv::Mat image_;
+  cv::Mat prepared_;          // an image sequence's frame prepared_index_, decoded ahead
+  int prepared_index_ = -1;
 };
 
 }  // namespace hullpose::camera_node

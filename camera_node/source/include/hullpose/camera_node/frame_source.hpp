@@ -60,6 +60,10 @@ class FrameSource {
   // cameras take the trigger on their own input line and return false.
   virtual bool triggerable() const { return false; }
   virtual void expose(int64_t /*trigger_seq*/, int64_t /*capture_utime*/) {}
+  // While the node waits for the next trigger, a simulated sensor may get that trigger's scene
+  // ready (file replay decodes the file), so that its frame is ready at the edge as a real
+  // sensor's is, instead of costing the decoding time after it.
+  virtual void prepare(int64_t /*trigger_seq*/) {}
 };
 
 // What a backend learns about the camera it serves, besides its own parameters.

@@ -31,6 +31,8 @@ class TriggerListener {
   // Drains the edge source, maps edges, appends the frames that are now tagged.
   void poll(int64_t now_us, std::vector<TaggedFrame>& out);
 
+  // No edge waiting for its announcement or its frame: nothing to do until the next edge.
+  bool idle() const { return mapper_.pending_edges() == 0 && matcher_.pending_edges() == 0; }
   const SequenceMapper& mapper() const { return mapper_; }
   const FrameMatcher& matcher() const { return matcher_; }
   int64_t foreign_announcements() const { return foreign_; }
