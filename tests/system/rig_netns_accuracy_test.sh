@@ -8,7 +8,9 @@
 # the trigger wire (one frame per edge, the frame of that trigger's sequence), passed through
 # unchanged (threshold method, no clean-up), so live and replay see the same silhouettes and must
 # agree: what is tested is the distributed rig (trigger, transport, assembly), not the background
-# subtraction (make demo runs that, on RGB).
+# subtraction (make demo runs that, on RGB). The host waits up to 500 ms for a frame's views (not
+# the default 33): on this shared 2-core machine a node may lag a frame behind now and then, and
+# a view dropped as late would change the answer; latency is make bench's business.
 # usage: rig_netns_accuracy_test.sh BUILD_DIR [FRAMES=300] [RATE=30]
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -37,7 +39,7 @@ wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 1200)) || { echo "FAIL: no
 "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/data/rig.yaml" "$url" "$work/wire.sock" masks:mask
 seconds=$(( frames / rate + 60 ))
 spawn "$work/host.log" fusion "$build/fusion_host/app/hullpose-fusion-host" --rig "$work/data/rig.yaml" --lcm-url "$url" \
-  --min-cameras 6 --duration-s "$seconds" --ready-file "$work/host.ready"
+  --min-cameras 6 --deadline-ms 500 --max-open 24 --duration-s "$seconds" --ready-file "$work/host.ready"
 host=$spawned
 spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format none --count "$frames" \
   --estimates "$work/live.csv" --summary "$work/summary.json" --duration-s "$seconds" --ready-file "$work/listen.ready"

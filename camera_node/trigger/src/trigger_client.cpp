@@ -75,13 +75,19 @@ std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_ut
 }
 
 std::optional<TaggedFrame> TriggerClient::next_exposure(int wait_ms) {
-  tagged_.clear();
-  if (!pump(wait_ms, [&](size_t) { return !tagged_.empty(); })) return std::nullopt;
-  // A sensor still busy with an earlier frame when the next edge came has been overrun, like a
-  // camera whose buffers are all in use: only the newest exposure is kept, so a node that falls
-  // behind catches up instead of publishing ever later (the host would drop those as late).
-  counters_.add("overrun", static_cast<int64_t>(tagged_.size()) - 1);
-  return tagged_.back();
+  if (next_tagged_ == tagged_.size()) {
+    tagged_.clear();
+    next_tagged_ = 0;
+    if (!pump(wait_ms, [&](size_t) { return !tagged_.empty(); })) return std::nullopt;
+  }
+  // Like a camera's driver queue: a node that falls behind finds at most kSensorBuffers exposures
+  // waiting; older ones were overwritten (counted), so it catches up instead of lagging for good.
+  const size_t waiting = tagged_.size() - next_tagged_;
+  if (waiting > kSensorBuffers) {
+    counters_.add("overrun", static_cast<int64_t>(waiting - kSensorBuffers));
+    next_tagged_ = tagged_.size() - kSensorBuffers;
+  }
+  return tagged_[next_tagged_++];
 }
 
 }  // namespace hullpose::trigger

@@ -35,9 +35,10 @@ class TriggerClient {
   // node's realtime clock. Handles TRIGGER messages and edges until the frame's edge is mapped
   // or wait_ms passes; std::nullopt if it belongs to no trigger edge (counted).
   std::optional<TaggedFrame> tag(int64_t frame_id, int64_t frame_utime, int wait_ms);
-  // Simulated sensor: the newest frame it exposed, tagged (frame_us on the node clock); older
-  // ones not yet handed out are dropped, counted "overrun". Handles TRIGGER messages and edges
-  // for up to wait_ms; std::nullopt if none is tagged by then.
+  // Simulated sensor: the next frame it exposed, tagged (frame_us on the node clock), oldest
+  // first; at most kSensorBuffers wait, older ones are dropped, counted "overrun". Handles
+  // TRIGGER messages and edges for up to wait_ms; std::nullopt if none is tagged by then.
+  static constexpr size_t kSensorBuffers = 4;
   std::optional<TaggedFrame> next_exposure(int wait_ms);
 
   const TriggerListener& listener() const { return listener_; }
@@ -58,6 +59,7 @@ class TriggerClient {
   lcm::Subscription* subscription_ = nullptr;
   hullpose_msg::trigger_t msg_;
   std::vector<TaggedFrame> tagged_;
+  size_t next_tagged_ = 0;  // next_exposure(): tagged_[next_tagged_..] wait to be handed out
   Counters counters_;
 };
 
