@@ -10,8 +10,10 @@
 # With LIVE=1 the listener prints fps and latency every second.
 # Priorities: on a real rig every camera node has a board of its own; here 8 nodes share the
 # cores with the fusion host, and 8 nodes waking at the same trigger edge would starve it just
-# when their silhouettes arrive. So the nodes run at nice HULLPOSE_NODE_NICE (default 10): the
-# host and the master go first, the nodes use the rest (measured in make bench, issue 7).
+# when their silhouettes arrive. So the master, the host and the listener run at nice
+# HULLPOSE_HOST_NICE (default -10; where that is not permitted, nice says so and they run at the
+# usual priority) and the nodes at the usual one: the host goes first, the nodes use the rest.
+# (Not the other way round: niced nodes would lose to anything else running on the machine.)
 set -euo pipefail
 build=$(cd "$1" && pwd) work=$2 frames=$3 rate=$4 num=$5 node_cmd=$6 host_cmd=$7
 port=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
@@ -31,21 +33,22 @@ rm -f "$work"/*.ready "$wire"
 for f in "$work"/node*.yaml; do  # node config files may carry the templates too
   [[ -e $f ]] && sed -i "s|{url}|$url|g; s|{wire}|$wire|g" "$f"
 done
-duration=$(( frames / rate + 20 ))
+duration=$(( frames / rate + 90 ))  # nodes may take a while to load before the master starts
 live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
 
-"$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
+hi=(nice -n "${HULLPOSE_HOST_NICE:--10}")
+"${hi[@]}" "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
   --summary "$work/summary.json" --count "$frames" --duration-s "$duration" --ready-file "$work/listen.ready" "${live[@]}" \
   2> >(if [[ ${LIVE:-0} == 1 ]]; then tee "$work/listen.log" >&2; else cat > "$work/listen.log"; fi) & listener=$!; pids+=($listener)
 # shellcheck disable=SC2046
-$(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
+"${hi[@]}" $(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
-"$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
+"${hi[@]}" "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
   --rate "$rate" --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num" 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for 10 "$wire"
 for ((c = 0; c < num; c++)); do
   # shellcheck disable=SC2046
-  nice -n "${HULLPOSE_NODE_NICE:-10}" $(fill "$node_cmd" "$c") 2> "$work/cam$c.log" & pids+=($!)
+  $(fill "$node_cmd" "$c") 2> "$work/cam$c.log" & pids+=($!)
 done
 wait "$master" || { echo "rig: trigger master failed:" >&2; cat "$work/master.log" >&2; exit 1; }
 [[ ${LIVE:-0} == 1 ]] && tail -n 1 "$work/master.log" >&2
