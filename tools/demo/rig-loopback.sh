@@ -8,12 +8,6 @@
 # The master starts pulsing once all NUM nodes are connected to its wire (nodes may take a while
 # to load), so no trigger is lost to start-up. Leaves in WORK: skeletons.csv, estimates.csv (frame = trigger_seq), summary.json, *.log.
 # With LIVE=1 the listener prints fps and latency every second.
-# Priorities: on a real rig every camera node has a board of its own; here 8 nodes share the
-# cores with the fusion host, and 8 nodes waking at the same trigger edge would starve it just
-# when their silhouettes arrive. So the master, the host and the listener run at nice
-# HULLPOSE_HOST_NICE (default -10; where that is not permitted, nice says so and they run at the
-# usual priority) and the nodes at the usual one: the host goes first, the nodes use the rest.
-# (Not the other way round: niced nodes would lose to anything else running on the machine.)
 set -euo pipefail
 build=$(cd "$1" && pwd) work=$2 frames=$3 rate=$4 num=$5 node_cmd=$6 host_cmd=$7
 port=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
@@ -36,14 +30,13 @@ done
 duration=$(( frames / rate + 90 ))  # nodes may take a while to load before the master starts
 live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
 
-hi=(nice -n "${HULLPOSE_HOST_NICE:--10}")
-"${hi[@]}" "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
+"$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
   --summary "$work/summary.json" --count "$frames" --duration-s "$duration" --ready-file "$work/listen.ready" "${live[@]}" \
   2> >(if [[ ${LIVE:-0} == 1 ]]; then tee "$work/listen.log" >&2; else cat > "$work/listen.log"; fi) & listener=$!; pids+=($listener)
 # shellcheck disable=SC2046
-"${hi[@]}" $(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
+$(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
-"${hi[@]}" "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
+"$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
   --rate "$rate" --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num" 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for 10 "$wire"
 for ((c = 0; c < num; c++)); do
