@@ -1,9 +1,8 @@
 #include "hullpose/camera_node/camera_node.hpp"
 
-#include "hullpose/camera_node/trigger_stage.hpp"
-
 #include <unistd.h>
 
+#include "hullpose/camera_node/trigger_stage.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"

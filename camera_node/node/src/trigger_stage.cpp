@@ -12,9 +12,8 @@ constexpr int64_t kSimulatedExposureDelayUs = 0;
 }  // namespace
 
 TriggerStage::TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,
-                           bool simulated_sensor, std::unique_ptr<trigger::EdgeSource> edges)
-    : config_(config), url_(lcm.url), camera_id_(camera_id), clock_{int64_t{config.clock_offset_ms} * 1000},
-      edges_(std::move(edges)) {
+                           bool simulated_sensor)
+    : config_(config), url_(lcm.url), camera_id_(camera_id), clock_{int64_t{config.clock_offset_ms} * 1000} {
   listener_config_.rig_id = std::move(rig_id);
   listener_config_.matcher.max_residual_us = config_.max_residual_us;
   listener_config_.expose_after_edge_us = simulated_sensor ? kSimulatedExposureDelayUs : -1;
@@ -23,12 +22,10 @@ TriggerStage::TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, st
 TriggerStage::~TriggerStage() = default;
 
 void TriggerStage::start() {
-  if (!edges_) {
-    try {
-      edges_ = trigger::open_edge_source(config_.edges, clock_, config_.connect_timeout_ms);
-    } catch (const Error& e) {
-      HULLPOSE_THROW("camera " << camera_id_ << ": " << e.what());
-    }
+  try {
+    edges_ = trigger::open_edge_source(config_.edges, clock_, config_.connect_timeout_ms);
+  } catch (const Error& e) {
+    HULLPOSE_THROW("camera " << camera_id_ << ": " << e.what());
   }
   bus_ = std::make_unique<lcm::LCM>(url_);
   HULLPOSE_THROW_UNLESS(bus_->good(), "camera " << camera_id_ << ": trigger: cannot open LCM at '" << url_ << "'");

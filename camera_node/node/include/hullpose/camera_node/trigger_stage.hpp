@@ -15,10 +15,9 @@ namespace hullpose::camera_node {
 class TriggerStage final : public FrameTrigger {
  public:
   // Opens nothing. `simulated_sensor`: the source exposes one frame per edge (next_instant()),
-  // else the camera exposes by itself and frames are stamped (stamp()). `edges` replaces the
-  // config's input (tests: trigger::SimEdgeSource).
+  // else the camera exposes by itself and frames are stamped (stamp()).
   TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,
-               bool simulated_sensor, std::unique_ptr<trigger::EdgeSource> edges = nullptr);
+               bool simulated_sensor);
   ~TriggerStage() override;
 
   void start() override;
