@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include <hullpose_msg/node_status_t.hpp>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
 #include "hullpose/firmware_sync/trigger_master.hpp"
@@ -34,28 +36,19 @@ struct Options {
   long long wait_nodes = 0;
 };
 
-Options parse(int argc, char** argv) {
+// Empty when --help was asked for.
+std::optional<Options> parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      HULLPOSE_THROW_UNLESS(i + 1 < argc, "option " << a << " needs a value\n" << kUsage);
-      return argv[++i];
-    };
-    try {
-      if (a == "--rig-id") o.master.rig_id = value();
-      else if (a == "--rate") o.master.rate_hz = std::stod(value());
-      else if (a == "--pulse-us") o.master.pulse_width_us = std::stoi(value());
-      else if (a == "--line") o.line = value();
-      else if (a == "--lcm-url") o.lcm_url = value();
-      else if (a == "--count") o.count = std::stoll(value());
-      else if (a == "--control-stdin") o.control_stdin = true;
-      else if (a == "--wait-nodes") o.wait_nodes = std::stoll(value());
-      else HULLPOSE_THROW("unknown option '" << a << "'\n" << kUsage);
-    } catch (const std::logic_error&) {
-      HULLPOSE_THROW("option " << a << ": '" << argv[i] << "' is not a number");
-    }
-  }
+  hullpose::cli::CommandLine cl(kUsage);
+  cl.option("--rig-id", o.master.rig_id)
+      .option("--rate", o.master.rate_hz)
+      .option("--pulse-us", o.master.pulse_width_us)
+      .option("--line", o.line)
+      .option("--lcm-url", o.lcm_url)
+      .option("--count", o.count)
+      .flag("--control-stdin", o.control_stdin)
+      .option("--wait-nodes", o.wait_nodes);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   o.master.validate();
   return o;
 }
@@ -90,7 +83,12 @@ HULLPOSE_LOG_CATEGORY(Main, "trigger_master")
 int main(int argc, char** argv) {
   try {
     if (const char* spec = std::getenv("HULLPOSE_LOG")) hullpose::log::set_levels(spec);
-    const Options o = parse(argc, argv);
+    const std::optional<Options> parsed = parse(argc, argv);
+    if (!parsed) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    const Options& o = *parsed;
     lcm::LCM bus(o.lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
     auto line = hullpose::sync::open_trigger_line(o.line);

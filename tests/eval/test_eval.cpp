@@ -378,7 +378,7 @@ TEST_CASE("bad input gets a clear error naming the file") {
   CHECK(help.out.find("usage: hullpose-eval --gt DIR --est FILE") != std::string::npos);
   expect({"--gt", ds.string(), "--est"}, "--est needs a value");
   expect({"--gt", ds.string(), "--est", est.string(), "--frobnicate"},
-         "unknown argument '--frobnicate'");
+         "unknown option '--frobnicate'");
   expect({"--gt", (dir.path / "nope").string(), "--est", est.string()},
          "nope: not a dataset directory");
   expect({"--gt", ds.string(), "--est", (dir.path / "none.csv").string()}, "none.csv: cannot open");

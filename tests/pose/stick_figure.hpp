@@ -88,6 +88,15 @@ inline VoxelGridSpec grid_2m(int resolution) {
   return VoxelGridSpec::fit(v, resolution);
 }
 
+// Room for a hand raised above the head (the 2 m grid would cut it off, and a skeleton cut off
+// by the volume is invalid).
+inline VoxelGridSpec grid_tall(int resolution) {
+  CaptureVolume v;
+  v.min_mm = Eigen::Vector3d(-1200, -1200, 0);
+  v.max_mm = Eigen::Vector3d(1200, 1200, 2400);
+  return VoxelGridSpec::fit(v, resolution);
+}
+
 inline Eigen::Vector3i voxel_of(const VoxelGridSpec& g, const Eigen::Vector3d& p) {
   return ((p - g.origin_mm) / g.voxel_mm).array().floor().cast<int>().matrix();
 }

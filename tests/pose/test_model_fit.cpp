@@ -179,7 +179,7 @@ TEST_CASE("other stick poses are fitted closely at 128^3 and 64^3") {
   walk.r_thigh = {0, -0.3, -1};
   walk.r_shin = {0, -0.6, -1};
   for (int res : {128, 64}) {
-    const VoxelGridSpec g = grid_2m(res);
+    const VoxelGridSpec g = grid_tall(res);
     for (const Limbs& limbs : {arm_up, walk}) {
       PoseEstimator estimator(stick_params());
       const JointPositions truth = stick_figure(kStature, limbs, {70, 0, 0, 0});

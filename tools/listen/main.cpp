@@ -10,8 +10,10 @@
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
+#include <optional>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/common/joints.hpp"
 #include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/log.hpp"
@@ -34,31 +36,22 @@ struct Options {
   bool live = false;
 };
 
-Options parse(int argc, char** argv) {
+// Empty when --help was asked for.
+std::optional<Options> parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      HULLPOSE_THROW_UNLESS(i + 1 < argc, "option " << a << " needs a value\n" << kUsage);
-      return argv[++i];
-    };
-    try {
-      if (a == "--lcm-url") o.lcm_url = value();
-      else if (a == "--channel") o.channel = value();
-      else if (a == "--format") o.format = value();
-      else if (a == "--output") o.output = value();
-      else if (a == "--estimates") o.estimates = value();
-      else if (a == "--frame-offset") o.frame_offset = std::stoll(value());
-      else if (a == "--summary") o.summary = value();
-      else if (a == "--ready-file") o.ready_file = value();
-      else if (a == "--count") o.count = std::stoll(value());
-      else if (a == "--duration-s") o.duration_s = std::stod(value());
-      else if (a == "--live") o.live = true;
-      else HULLPOSE_THROW("unknown option '" << a << "'\n" << kUsage);
-    } catch (const std::logic_error&) {
-      HULLPOSE_THROW("option " << a << ": '" << argv[i] << "' is not a number");
-    }
-  }
+  hullpose::cli::CommandLine cl(kUsage);
+  cl.option("--lcm-url", o.lcm_url)
+      .option("--channel", o.channel)
+      .option("--format", o.format)
+      .option("--output", o.output)
+      .option("--estimates", o.estimates)
+      .option("--frame-offset", o.frame_offset)
+      .option("--summary", o.summary)
+      .option("--ready-file", o.ready_file)
+      .option("--count", o.count)
+      .option("--duration-s", o.duration_s)
+      .flag("--live", o.live);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(o.format == "csv" || o.format == "jsonl" || o.format == "none",
                         "--format must be csv, jsonl or none, got '" << o.format << "'");
   return o;
@@ -91,7 +84,12 @@ struct Listener {
 int main(int argc, char** argv) {
   try {
     if (const char* spec = std::getenv("HULLPOSE_LOG")) hullpose::log::set_levels(spec);
-    const Options o = parse(argc, argv);
+    const std::optional<Options> parsed = parse(argc, argv);
+    if (!parsed) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    const Options& o = *parsed;
     lcm::LCM bus(o.lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
     std::ofstream file, estimates;

@@ -6,12 +6,16 @@
 //    tip. The threshold is a fraction of the longest path below the head branch, rather than an
 //    arm length, because the tree here is treated as unrooted: the head is a terminal branch like
 //    any other, which removes the paper's dependence on the head being the highest point.
+//    Pruning never goes below five branches, and up to four spurs survive it for the ranking.
+//  - Ranking: the head must continue the torso (eq. 1's head factor times a direction factor):
+//    CK3's spurs off a thick chest are as long as a neck and only their direction differs.
 //  - Candidate ranking (eq. 1-4) measures the "shortened limb" penalty in units of a fraction of
 //    the longest path, and counts junctions closer than a few voxels as one (CK3 splits a
 //    degree-4 junction into two degree-3 nodes where the skeleton is two voxels thick).
 //  - Validity: instead of one empirical threshold on the raw rank product (which scales with the
 //    number of limbs and is hard to read), every rank factor is in 0..1, the labelling must
-//    reach a minimum geometric mean AND a minimum single factor, and the torso must exist. A
+//    reach a minimum geometric mean AND a minimum single factor, the torso must exist, and the
+//    skeleton must not touch the sides or top of the capture volume (a cut-off person). A
 //    single badly wrong limb (arm merged with the torso, leg missing) therefore fails the tree
 //    even when the others are perfect.
 //  - Temporal correspondence chooses the extremity classes only when the labelling it implies
@@ -256,6 +260,10 @@ bool PoseTreeBuilder::prune(double longest) {
   while (true) {
     collect_branches();
     if (junctions_.empty()) break;  // a bare path: nothing left to prune
+    // Never below five: a person has five extremities however short one of them is (the head's
+    // branch shrinks to ~0.05 of the longest path when a raised arm's junction moves up the
+    // neck); whether a short one is a real limb is the ranking's call, not the pruning's.
+    if (branches_.size() <= kNumExtremities) break;
     const auto shortest = std::min_element(branches_.begin(), branches_.end(),
                                            [](const Branch& a, const Branch& b) { return a.length < b.length; });
     if (shortest->length >= threshold && branches_.size() <= kMaxEnds) break;
@@ -269,6 +277,25 @@ bool PoseTreeBuilder::prune(double longest) {
     end_junction_[k] = branches_[k].junction;
   }
   return true;
+}
+
+// Where the paths from `a` and `b` towards the last distances_from() source meet (-1 if either
+// is unreached): equalise the hop counts, then walk both up in step.
+int32_t PoseTreeBuilder::meeting_node(int32_t a, int32_t b) const {
+  auto hops = [&](int32_t i) {
+    int n = 0;
+    for (; via_[i] >= 0; i = via_[i]) ++n;
+    return n;
+  };
+  if (dist_[a] == kInf || dist_[b] == kInf) return -1;
+  int ha = hops(a), hb = hops(b);
+  for (; ha > hb; --ha) a = via_[a];
+  for (; hb > ha; --hb) b = via_[b];
+  while (a != b) {
+    a = via_[a];
+    b = via_[b];
+  }
+  return a;
 }
 
 // Eq. 1-4 for one origin candidate and one assignment of endpoints to classes; dist_ must hold
@@ -287,15 +314,28 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
       if (ends_[k] == node) return end_branch_[k];
     return 0.0;
   };
+  // The neck continues the torso: the head leaves the origin within ~60 degrees of the torso's
+  // direction (pelvis -> origin; even a bowed head's top stays inside 90), while the spurs CK3
+  // grows off a thick chest or back leave it sideways, forwards or downwards. Length alone cannot tell
+  // them apart: a spur is as long as the chest is deep, about the neck's length.
+  const int32_t pelvis = meeting_node(ends[kFoot1], ends[kFoot2]);
+  double head_direction = 1;
+  if (pelvis >= 0 && pelvis != candidate) {
+    const Eigen::Vector3d up = tree_.position[candidate] - tree_.position[pelvis];
+    const Eigen::Vector3d neck = tree_.position[ends[kHeadSlot]] - tree_.position[candidate];
+    const double norms = up.norm() * neck.norm();
+    if (norms > 0) head_direction = std::clamp(2 * up.dot(neck) / norms, 0.0, 1.0);  // 1 up to 60 deg, 0 at 90
+  }
   Ranked r;
   r.origin = candidate;
   r.ends = ends;
+  r.upright = pelvis >= 0 && tree_.position[candidate].z() > tree_.position[pelvis].z();
   for (int s = 0; s < kNumExtremities; ++s) {
     const double dr = dist_[ends[s]];
     const double offset = std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
     double f;
     if (s == kHeadSlot)
-      f = closeness(ideal_neck, dr) / (1 + offset / offset_scale);
+      f = closeness(ideal_neck, dr) / (1 + offset / offset_scale) * head_direction;
     else if (s == kHand1 || s == kHand2)
       f = closeness(ideal_arm, dr) / (1 + offset / offset_scale);
     else
@@ -322,7 +362,7 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
 PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
   // Every origin candidate, and every choice of five endpoints when pruning left more (a long
   // spur, e.g. the ghost volume between the legs, can outlast the head's short branch).
-  Ranked best;
+  Ranked best, best_upright;
   const uint32_t count = static_cast<uint32_t>(ends_.size());
   for (int32_t c : junctions_) {
     distances_from(c, true);
@@ -337,9 +377,12 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
       const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
       const Ranked r = rank_candidate(c, ends, longest);
       if (r.rank > best.rank) best = r;
+      if (r.upright && r.rank > best_upright.rank) best_upright = r;
     }
   }
-  return best;
+  return !best.upright && best_upright.origin >= 0 && best_upright.quality >= best.quality - params_.upright_margin
+             ? best_upright
+             : best;
 }
 
 PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<int32_t, kNumExtremities>& ends,
@@ -354,24 +397,38 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<in
 }
 
 std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const TemporalHint& hint) const {
-  // Every assignment of endpoints to the previous extremities (the first five of each
-  // permutation); least summed displacement.
+  // The assignment of endpoints to the previous extremities with the least summed displacement:
+  // dynamic programming over the subsets of endpoints used so far (5 x 2^kMaxEnds states).
   const int count = static_cast<int>(ends_.size());
-  std::array<int32_t, kMaxEnds> perm{}, best{};
-  std::iota(perm.begin(), perm.begin() + count, 0);
-  best = perm;
-  double best_cost = kInf;
-  do {
-    double cost = 0;
-    for (int s = 0; s < kNumExtremities; ++s)
-      cost += (tree_.position[ends_[perm[s]]] - hint.extremity_mm[s]).norm();
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = perm;
+  const uint32_t full = 1u << count;
+  std::array<std::array<double, kNumExtremities>, kMaxEnds> cost{};
+  for (int k = 0; k < count; ++k)
+    for (int s = 0; s < kNumExtremities; ++s) cost[k][s] = (tree_.position[ends_[k]] - hint.extremity_mm[s]).norm();
+  // best_[mask]: least cost of giving slots 0..popcount(mask)-1 the endpoints in mask.
+  std::fill(assign_cost_.begin(), assign_cost_.begin() + full, kInf);
+  assign_cost_[0] = 0;
+  for (uint32_t mask = 0; mask < full; ++mask) {
+    const int s = std::popcount(mask);
+    if (s >= kNumExtremities || assign_cost_[mask] == kInf) continue;
+    for (int k = 0; k < count; ++k) {
+      if (mask & (1u << k)) continue;
+      const uint32_t next = mask | (1u << k);
+      const double c = assign_cost_[mask] + cost[k][s];
+      if (c < assign_cost_[next]) {
+        assign_cost_[next] = c;
+        assign_from_[next] = static_cast<int8_t>(k);
+      }
     }
-  } while (std::next_permutation(perm.begin(), perm.begin() + count));
+  }
+  uint32_t best = 0;
+  for (uint32_t mask = 0; mask < full; ++mask)
+    if (std::popcount(mask) == kNumExtremities && (best == 0 || assign_cost_[mask] < assign_cost_[best])) best = mask;
   std::array<int32_t, kNumExtremities> out;
-  for (int s = 0; s < kNumExtremities; ++s) out[s] = ends_[best[s]];
+  for (int s = kNumExtremities; s-- > 0;) {
+    const int k = assign_from_[best];
+    out[s] = ends_[k];
+    best &= ~(1u << k);
+  }
   return out;
 }
 
@@ -560,6 +617,16 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   if (n < 8) {
     invalidate(n == 0 ? "no skeleton voxels" : "skeleton too small");
     return tree_;
+  }
+  {
+    const Eigen::Vector3d low = grid.origin_mm.array() + (params_.edge_voxels + 1) * grid.voxel_mm;
+    const Eigen::Vector3d high =
+        grid.origin_mm.array() + (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
+    for (const Eigen::Vector3d& p : tree_.position)
+      if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() || p.z() > high.z()) {
+        invalidate("the skeleton reaches the side of the capture volume: the person is partly outside");
+        return tree_;
+      }
   }
   const double longest = longest_path();
   tree_.longest_path_mm = longest;

@@ -109,7 +109,7 @@ bool is_replay_command(std::span<const std::string_view> args) {
   return std::find(args.begin(), args.end(), "--replay") != args.end();
 }
 
-int replay_cli(std::span<const std::string_view> args) {
+ReplayOptions parse_replay_args(std::span<const std::string_view> args) {
   ReplayOptions options;
   options.fusion.resolution = 128;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -134,14 +134,32 @@ int replay_cli(std::span<const std::string_view> args) {
       const std::string_view v = value();
       HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
       options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+    } else if (flag == "--curve-rule") {
+      // CK3's curve constraint (fusion_host/thin): the thesis' rule and the two variants of the
+      // thinning notes, for the comparison in fusion_host/pose/README.md.
+      const std::string_view v = value();
+      if (v == "ck3") {
+        options.fusion.curve_rule = thin::CurveRule::kCk3;
+      } else if (v == "isthmus") {
+        options.fusion.curve_rule = thin::CurveRule::kIsthmus;
+      } else if (v == "endvoxel") {
+        options.fusion.curve_rule = thin::CurveRule::kEndVoxel;
+      } else {
+        HULLPOSE_THROW("--curve-rule: expected ck3, isthmus or endvoxel, got '" << v << "'");
+      }
     } else {
       HULLPOSE_THROW("unknown option '" << flag
                                         << "' (usage: --replay DIR --out FILE [--resolution N] [--frames N] "
-                                           "[--threads N] [--skeletoniser ck3|d6i1d] [--timings FILE])");
+                                           "[--threads N] [--skeletoniser ck3|d6i1d] [--curve-rule "
+                                           "ck3|isthmus|endvoxel] [--timings FILE])");
     }
   }
   HULLPOSE_THROW_UNLESS(!options.dataset.empty() && !options.out.empty(), "--replay DIR and --out FILE are both needed");
-  const ReplaySummary s = run_replay(options);
+  return options;
+}
+
+int replay_cli(std::span<const std::string_view> args) {
+  const ReplaySummary s = run_replay(parse_replay_args(args));
   std::printf(
       "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, \"thin\": %.3f, "
       "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",

@@ -1,9 +1,10 @@
 #include "hullpose/eval/cli.hpp"
 
+#include <optional>
 #include <string>
-#include <string_view>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/eval/report.hpp"
 
 namespace hullpose::eval {
@@ -21,25 +22,12 @@ struct Options {
   bool json = false;
 };
 
-Options parse(int argc, const char* const* argv) {
+// Empty when --help was asked for.
+std::optional<Options> parse(int argc, const char* const* argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    auto value = [&]() -> std::string {
-      HULLPOSE_THROW_UNLESS(i + 1 < argc, arg << " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--gt")
-      o.gt = value();
-    else if (arg == "--est")
-      o.est = value();
-    else if (arg == "--report")
-      o.report = value();
-    else if (arg == "--json")
-      o.json = true;
-    else
-      HULLPOSE_THROW("unknown argument '" << arg << "'");
-  }
+  cli::CommandLine cl(kUsage);
+  cl.option("--gt", o.gt).option("--est", o.est).option("--report", o.report).flag("--json", o.json);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(!o.gt.empty(), "--gt DIR is required");
   HULLPOSE_THROW_UNLESS(!o.est.empty(), "--est FILE is required");
   return o;
@@ -48,14 +36,14 @@ Options parse(int argc, const char* const* argv) {
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  for (int i = 1; i < argc; ++i)
-    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
+  Options o;
+  try {
+    const std::optional<Options> parsed = parse(argc, argv);
+    if (!parsed) {
       out << kUsage;
       return 0;
     }
-  Options o;
-  try {
-    o = parse(argc, argv);
+    o = *parsed;
   } catch (const Error& e) {
     err << "hullpose-eval: error: " << e.what() << '\n' << kUsage;
     return 2;

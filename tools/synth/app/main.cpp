@@ -1,13 +1,13 @@
 // hullpose-synth: renders a synthetic multi-view dataset with ground truth (tools/synth/README.md).
 #include <unistd.h>
 
-#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/synth/dataset_writer.hpp"
 #include "hullpose/synth/rig_gen.hpp"
 
@@ -39,14 +39,6 @@ constexpr const char* kUsage = R"(usage: hullpose-synth --motion <NAME|FILE.bvh>
   --threads N       worker threads (default: all cores)
 )";
 
-double to_number(const std::string& flag, const std::string& text) {
-  double v = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  HULLPOSE_THROW_UNLESS(ec == std::errc() && end == text.data() + text.size() && std::isfinite(v),
-                        flag << ": '" << text << "' is not a number");
-  return v;
-}
-
 // A progress bar on stderr when it is a terminal; silence otherwise (logs stay clean).
 void progress(int done, int total) {
   static const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -70,64 +62,37 @@ int main(int argc, char** argv) {
     SynthConfig cfg;
     bool have_motion = false;
     std::string rig_out;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        HULLPOSE_THROW_UNLESS(i + 1 < argc, a << " needs a value");
-        return argv[++i];
-      };
-      if (a == "-h" || a == "--help") {
-        std::cout << kUsage;
-        return 0;
-      } else if (a == "--motion") {
-        cfg.motion = value();
-        have_motion = true;
-      } else if (a == "--out") {
-        cfg.out = value();
-      } else if (a == "--frames") {
-        cfg.frames = static_cast<int>(to_number(a, value()));
-      } else if (a == "--fps") {
-        cfg.fps = to_number(a, value());
-      } else if (a == "--rig") {
-        cfg.rig = value();
-      } else if (a == "--rig-out") {
-        rig_out = value();
-      } else if (a == "--rgb") {
-        cfg.rgb = true;
-      } else if (a == "--backgrounds") {
-        cfg.backgrounds = static_cast<int>(to_number(a, value()));
-      } else if (a == "--noise") {
-        cfg.faults = FaultSpec::parse(value());
-      } else if (a == "--flicker") {
-        cfg.scene.flicker = to_number(a, value());
-      } else if (a == "--sensor-noise") {
-        cfg.scene.noise_sigma = to_number(a, value());
-      } else if (a == "--seed") {
-        const std::string s = value();
-        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), cfg.seed);
-        HULLPOSE_THROW_UNLESS(ec == std::errc() && end == s.data() + s.size(), "--seed: '" << s << "' is not an integer");
-      } else if (a == "--stature") {
-        cfg.motion_options.stature_mm = to_number(a, value());
-      } else if (a == "--speed") {
-        cfg.motion_options.speed = to_number(a, value());
-      } else if (a == "--stride") {
-        cfg.motion_options.stride_mm = to_number(a, value());
-      } else if (a == "--build") {
-        const std::string b = value();
-        cfg.body.build = std::isdigit(static_cast<unsigned char>(b[0])) ? to_number(a, b) : BodyShape::build_preset(b);
-      } else if (a == "--clothing") {
-        cfg.body.clothing_mm = to_number(a, value());
-      } else if (a == "--bvh-mm-per-unit") {
-        cfg.motion_options.bvh_mm_per_unit = to_number(a, value());
-      } else if (a == "--png-level") {
-        cfg.png_compression = static_cast<int>(to_number(a, value()));
-        HULLPOSE_THROW_UNLESS(cfg.png_compression >= 0 && cfg.png_compression <= 9, "--png-level must be 0..9");
-      } else if (a == "--threads") {
-        cv::setNumThreads(static_cast<int>(to_number(a, value())));
-      } else {
-        HULLPOSE_THROW("unknown option '" << a << "' (see --help)");
-      }
+    hullpose::cli::CommandLine cl(kUsage);
+    cl.option("--motion", [&](const std::string& v) { cfg.motion = v; have_motion = true; })
+        .option("--out", [&](const std::string& v) { cfg.out = v; })
+        .option("--frames", cfg.frames)
+        .option("--fps", cfg.fps)
+        .option("--rig", cfg.rig)
+        .option("--rig-out", rig_out)
+        .flag("--rgb", cfg.rgb)
+        .option("--backgrounds", cfg.backgrounds)
+        .option("--noise", [&](const std::string& v) { cfg.faults = FaultSpec::parse(v); })
+        .option("--flicker", cfg.scene.flicker)
+        .option("--sensor-noise", cfg.scene.noise_sigma)
+        .option("--seed", cfg.seed)
+        .option("--stature", cfg.motion_options.stature_mm)
+        .option("--speed", cfg.motion_options.speed)
+        .option("--stride", cfg.motion_options.stride_mm)
+        .option("--build", [&](const std::string& v) {
+          cfg.body.build = std::isdigit(static_cast<unsigned char>(v[0])) ? hullpose::cli::parse_double("--build", v)
+                                                                        : BodyShape::build_preset(v);
+        })
+        .option("--clothing", cfg.body.clothing_mm)
+        .option("--bvh-mm-per-unit", cfg.motion_options.bvh_mm_per_unit)
+        .option("--png-level", cfg.png_compression)
+        .option("--threads", [](const std::string& v) {
+          cv::setNumThreads(static_cast<int>(hullpose::cli::parse_integer("--threads", v)));
+        });
+    if (!cl.parse(argc, argv)) {
+      std::cout << kUsage;
+      return 0;
     }
+    HULLPOSE_THROW_UNLESS(cfg.png_compression >= 0 && cfg.png_compression <= 9, "--png-level must be 0..9");
     if (!rig_out.empty()) {
       hullpose::save_rig(rig_from_name_or_file(cfg.rig), rig_out);
       if (!have_motion) return 0;

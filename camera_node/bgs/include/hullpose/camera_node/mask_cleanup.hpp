@@ -22,7 +22,8 @@ class MaskCleanup {
  private:
   CleanupParams params_;
   cv::Mat open_kernel_, close_kernel_;
-  cv::Mat tmp_, labels_, stats_, centroids_;
+  cv::Mat tmp_, labels_;
+  std::vector<int> area_;
   std::vector<uint8_t> keep_;
 };
 

@@ -8,13 +8,14 @@
 //   1. breadth-first tree over 26-adjacency from the top-most voxel of the largest component,
 //      voxels side by side at the same depth collapsed into one node (thick CK3 parts);
 //   2. prune spurious leaf branches (anthropometric threshold relative to the longest path),
-//      then keep the seven longest terminal branches (head, two hands, two feet, and up to two
-//      spurs that the ranking leaves out);
+//      then keep the nine longest terminal branches (head, two hands, two feet, and up to four
+//      spurs that the ranking leaves out), never fewer than five;
 //   3. rank origin-node candidates (eq. 1-4) and label extremities by distance, or by temporal
 //      correspondence with the previous valid frame;
 //   4. segment into neck, torso, arms and legs;
 //   5. forward vector from the legs (alg. 5) and left/right from shoulder and hip lines (alg. 6);
-//   6. validity: see TreeParams and docs in pose_tree.cpp.
+//   6. validity: see TreeParams and docs in pose_tree.cpp (including: the skeleton must not
+//      touch the sides or the top of the capture volume).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -32,9 +33,11 @@ inline constexpr int kNumExtremities = 5;
 enum class Part : uint8_t { Unlabelled, Neck, Torso, LArm, RArm, LLeg, RLeg };
 
 struct TreeParams {
-  // Leaf branches shorter than this fraction of the longest path are spurious (the head branch
-  // is ~0.125 of it, so this stays well below every real limb).
-  double prune_ratio = 0.055;
+  // Leaf branches shorter than this fraction of the longest path are spurious. The head's branch
+  // is ~0.125 of it on an ideal tree but shrinks to ~0.05 when a raised arm's branch point moves
+  // up the neck, so this stays low and the ranking (with the head's direction) drops the longer
+  // spurs. (Synthetic CMU 55_01 at 128^3: 0.055 gave 98.7 % valid, 0.04 99.1 %, 0.03 97.6 %.)
+  double prune_ratio = 0.04;
   // Scale of the "shortened limb" penalty of eq. 3-4, as a fraction of the longest path. The
   // paper's 1/(1 + (dr - db)) has no unit; in mm it would punish a one-voxel offset as hard as a
   // missing arm.
@@ -44,14 +47,22 @@ struct TreeParams {
   // Validity (replaces the paper's fixed rank threshold): the best labelling's geometric-mean
   // rank factor and every single factor must reach these, the torso must exist, and the
   // skeleton must not be too small for a person of the running stature.
-  // (0.5 / 0.2 on synthetic CMU 55_01 at 128^3: 98 % valid at 34.6 mm MPJPE; 0.6 / 0.3 gave
-  // 92.7 % valid at 32.9 mm, 0.4 / 0.1 98.4 % at 34.8 mm.)
+  // (0.5 / 0.2 on synthetic CMU 55_01 at 128^3: 99.1 % valid at 33.3 mm MPJPE; min_factor
+  // 0.25 gave 96.2 % at 32.6 mm, 0.3 92.0 % at 32.3 mm.)
   double min_quality = 0.5;
   double min_factor = 0.2;
   // Left/right decisions with less angular margin than this defer to temporal correspondence
   // when a previous valid frame exists.
   double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
   double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
+  // An upside-down labelling (origin below the pelvis) wins only if it ranks this much better
+  // than the best upright one: people stand far more often than they stand on their hands, and
+  // on a skeleton whose arms hang beside the legs the two readings rank alike.
+  double upright_margin = 0.1;
+  // A skeleton that comes this close (voxels) to a side or the top of the grid belongs to a hull
+  // cut off by the capture volume: part of the person is outside, and a limb may be missing or
+  // cut short, so the frame is invalid. (Walks that leave the volume: 02_01, 08_02, 49_08.)
+  int edge_voxels = 1;
   // Algorithm 5: a joint normal counts only if the joint is bent by more than this.
   double bend_min_deg = 12;
 };
@@ -112,6 +123,7 @@ class PoseTreeBuilder {
   };
   struct Ranked {
     double rank = 0, quality = 0;
+    bool upright = false;  // the origin above the pelvis (z up)
     int32_t origin = -1;
     std::array<int32_t, kNumExtremities> ends{};  // Head, hand, hand, foot, foot (endpoint idx)
     std::array<double, kNumExtremities> factor{};
@@ -128,6 +140,7 @@ class PoseTreeBuilder {
   Ranked best_structural(double longest);
   Ranked best_for_assignment(const std::array<int32_t, kNumExtremities>& ends, double longest);
   std::array<int32_t, kNumExtremities> temporal_assignment(const TemporalHint& hint) const;
+  int32_t meeting_node(int32_t a, int32_t b) const;
   void walk_path(int32_t from, int32_t to, std::vector<int32_t>& out) const;
   void label_parts();
   bool orient(const TemporalHint& hint, double stature);
@@ -153,11 +166,13 @@ class PoseTreeBuilder {
   std::vector<uint8_t> mark_;
   std::vector<Branch> branches_;
   std::vector<int32_t> junctions_;
-  // Endpoints after pruning: five limbs, or up to two more spurs the ranking must leave out.
-  static constexpr int kMaxEnds = kNumExtremities + 2;
+  // Endpoints after pruning: five limbs, or up to four more spurs the ranking must leave out.
+  static constexpr int kMaxEnds = kNumExtremities + 4;
   std::vector<int32_t> ends_;
   std::array<double, kMaxEnds> end_branch_{};     // db per endpoint
   std::array<int32_t, kMaxEnds> end_junction_{};  // where its terminal branch meets the tree
+  mutable std::array<double, 1u << kMaxEnds> assign_cost_{};  // temporal_assignment() DP
+  mutable std::array<int8_t, 1u << kMaxEnds> assign_from_{};
 };
 
 }  // namespace hullpose::pose

@@ -30,6 +30,10 @@ struct ReplaySummary {
 // Throws hullpose::Error on a dataset that cannot be read (rig, meta, an unreadable mask).
 ReplaySummary run_replay(const ReplayOptions& options);
 
+// The options of `hullpose-fusion-host --replay DIR --out FILE [...]` (args without argv[0]);
+// throws hullpose::Error on a bad command line.
+ReplayOptions parse_replay_args(std::span<const std::string_view> args);
+
 // `hullpose-fusion-host --replay DIR --out FILE [...]`: parses `args` (without argv[0]),
 // runs, prints a one-line JSON summary on stdout. Returns the exit status; throws
 // hullpose::Error on a bad command line.
