@@ -19,7 +19,12 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
       config = argv[++i];
     } else if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::printf("usage: hullpose-camera-node --config FILE\n");
+      std::printf(
+          "usage: hullpose-camera-node --config FILE\n"
+          "  One camera of the rig: capture, background subtraction, silhouette on LCM (SILHOUETTE).\n"
+          "  The file's trigger: section wires the hardware trigger input (edges: gpiod, chip, line;\n"
+          "  or edges: wire, path for a simulated rig) so every silhouette carries the trigger\n"
+          "  sequence of the master (camera_node/config/.../node_config.hpp documents every field).\n");
       return 0;
     } else {
       std::fprintf(stderr, "hullpose-camera-node: error: unknown argument '%s' (usage: --config FILE)\n", argv[i]);

@@ -69,6 +69,7 @@ TEST_CASE("an empty scene gives an (almost) empty mask") {
   const test::SynthSequence seq = small_sequence(3, 0);
   cv::Mat mask(seq.background[0].size(), CV_8UC1);
   for (const std::string& method : subtractor_names()) {
+    if (method == "threshold") continue;  // not a background model: takes segmented frames
     auto s = make_subtractor(method, Params("bgs.params"));
     learn(*s, seq);
     s->apply(seq.background[0], mask);
@@ -115,9 +116,9 @@ TEST_CASE("Codebook keeps few codewords on a static scene") {
 }
 
 TEST_CASE("methods are chosen by name and their parameters are checked") {
-  CHECK(subtractor_names() == std::vector<std::string>{"horprasert", "codebook", "sobs", "mog2", "knn"});
+  CHECK(subtractor_names() == std::vector<std::string>{"horprasert", "codebook", "sobs", "mog2", "knn", "threshold"});
   CHECK_THROWS_WITH(make_subtractor("vibe", Params("bgs.params")),
-                    Catch::Contains("bgs.method: unknown method 'vibe' (known: horprasert, codebook, sobs, mog2, knn)"));
+                    Catch::Contains("bgs.method: unknown method 'vibe' (known: horprasert, codebook, sobs, mog2, knn, threshold)"));
   Params bad("cam.yaml: bgs.params");
   bad.set("detection_rate", "2");
   CHECK_THROWS_WITH(make_subtractor("horprasert", bad), Catch::Contains("cam.yaml: bgs.params.detection_rate"));
@@ -141,4 +142,19 @@ TEST_CASE("clean-up removes speckle and small blobs, keeps the person and fills 
   CHECK(mask.at<uint8_t>(5, 5) == 0);
   CHECK(cv::countNonZero(mask(cv::Rect(115, 95, 15, 15))) == 0);
   CHECK(cv::countNonZero(mask(cv::Rect(40, 20, 30, 80))) > 30 * 80 - 10);
+}
+
+TEST_CASE("the threshold method passes pre-segmented frames through unchanged") {
+  cv::Mat truth = cv::Mat::zeros(48, 64, CV_8UC1);
+  cv::rectangle(truth, cv::Rect(10, 5, 20, 30), cv::Scalar(255), cv::FILLED);
+  cv::Mat bgr, mask(truth.size(), CV_8UC1);
+  cv::cvtColor(truth, bgr, cv::COLOR_GRAY2BGR);
+  auto s = make_subtractor("threshold", Params("bgs.params"));
+  s->begin_learning(truth.size());
+  s->end_learning();
+  s->apply(bgr, mask);
+  CHECK(cv::countNonZero(mask != truth) == 0);
+  Params bad("bgs.params");
+  bad.set("level", "0");
+  CHECK_THROWS_WITH(make_subtractor("threshold", bad), Catch::Contains("bgs.params.level: must be in [1, 255]"));
 }

@@ -73,19 +73,65 @@ TEST_CASE("pixels outside the ROI are background") {
   CHECK(cv::countNonZero(mask(cv::Rect(cut, 0, 320 - cut, 240))) == 0);
 }
 
-TEST_CASE("run() stamps frames through the trigger seam and counts frames without a trigger") {
-  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")));
-  node.start();
-  std::vector<int64_t> seen;
-  const std::atomic<bool> stop{false};
-  node.run(stop, [&](const Frame& f) -> std::optional<TriggerStamp> {
-    seen.push_back(f.sequence);
+namespace {
+// A trigger layer that stamps frames 2 and 7 as having no trigger and numbers the others + 1000;
+// its trigger instants (for a simulated sensor) are 1000 + 2k.
+struct ScriptedTrigger final : FrameTrigger {
+  std::vector<int64_t>* seen;
+  int64_t instants = 0;
+  explicit ScriptedTrigger(std::vector<int64_t>* s) : seen(s) {}
+  void start() override {}
+  std::optional<TriggerStamp> stamp(const Frame& f) override {
+    seen->push_back(f.sequence);
     if (f.sequence == 2) return std::nullopt;
     return TriggerStamp{f.sequence + 1000, f.capture_utime};
+  }
+  std::optional<TriggerStamp> next_instant(int) override {
+    const int64_t k = instants++;
+    seen->push_back(k);
+    return TriggerStamp{2 * k, 1'700'000'000'000'000 + k, 0, 1'700'000'000'000'000 + k + 200};
+  }
+  void report(std::vector<std::pair<std::string, int64_t>>&) const override {}
+};
+
+// A camera that exposes by itself (not triggerable): the file source behind another name.
+struct SelfExposing final : FrameSource {
+  std::unique_ptr<FrameSource> inner;
+  void start() override { inner->start(); }
+  GrabStatus grab(Frame& f, int t) override { return inner->grab(f, t); }
+  void stop() override { inner->stop(); }
+  std::string describe() const override { return "self-exposing " + inner->describe(); }
+};
+}  // namespace
+
+TEST_CASE("run() stamps a self-exposing camera's frames through the trigger and counts frames without one") {
+  SourceRegistry sources = SourceRegistry::builtin();
+  sources.add("file", [](const Params& p, const SourceContext& c) {
+    auto s = std::make_unique<SelfExposing>();
+    s->inner = SourceRegistry::builtin().create("file", p, c);
+    return s;
   });
+  std::vector<int64_t> seen;
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")), sources,
+                  std::make_unique<ScriptedTrigger>(&seen));
+  node.start();
+  const std::atomic<bool> stop{false};
+  node.run(stop);
   CHECK(seen == std::vector<int64_t>{0, 1, 2, 3, 4, 5});
   CHECK(node.frames_processed() == 5);
   CHECK(node.counters().get("no_trigger") == 1);
+}
+
+TEST_CASE("run() has a simulated sensor expose the frame of each trigger instant") {
+  std::vector<int64_t> seen;
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")),
+                  SourceRegistry::builtin(), std::make_unique<ScriptedTrigger>(&seen));
+  node.start();
+  const std::atomic<bool> stop{false};
+  node.run(stop);  // trigger instants 0, 2, 4 show recorded frames 0, 2, 4; instant 6 is past the end
+  CHECK(seen == std::vector<int64_t>{0, 1, 2, 3});
+  CHECK(node.frames_processed() == 3);
+  CHECK(node.counters().get("no_trigger") == 0);
 }
 
 TEST_CASE("node configuration errors name the file and the field") {

@@ -201,4 +201,10 @@ TEST_CASE("the camera node process fails cleanly on a malformed config or an abs
   std::ofstream(dir / "libcamera.yaml") << replace_source("source:\n  type: libcamera\n  camera: imx296-absent\n");
   CHECK(run_to_exit(dir / "libcamera.yaml", err) == 2);
   CHECK_THAT(err, Catch::Contains("libcamera: camera 'imx296-absent' not found"));
+
+  // The trigger input is opened at start: a board without the GPIO chip says which chip and line.
+  std::ofstream(dir / "gpiod.yaml") << text << "trigger:\n  edges: gpiod\n  chip: gpiochip-hullpose-absent\n  line: 17\n";
+  CHECK(run_to_exit(dir / "gpiod.yaml", err) == 2);
+  CHECK_THAT(err, Catch::Contains("hullpose-camera-node: error: camera 0: trigger input gpiod:gpiochip-hullpose-absent:17: "
+                                  "cannot open GPIO chip 'gpiochip-hullpose-absent' line 17"));
 }

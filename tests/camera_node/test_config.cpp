@@ -116,3 +116,35 @@ TEST_CASE("stage parameters are typed, ranged and must all be known") {
   CHECK_THROWS_WITH(p.get_double("nan", 0, 0, 1), Catch::Contains("bgs.params.nan: must be a number"));
   CHECK_THROWS_WITH(p.require_string("missing"), Catch::Contains("bgs.params.missing: missing (required)"));
 }
+
+TEST_CASE("the trigger section names the input and is checked field by field") {
+  const NodeConfig none = load_node_config(write("good.yaml", kGood));
+  CHECK_FALSE(none.trigger.enabled);  // free-running
+
+  const fs::path gpio = write("gpio.yaml", std::string(kGood) + "trigger:\n  edges: gpiod\n  chip: gpiochip0\n  line: 17\n"
+                                                                  "  max_residual_us: 3000\n  wait_ms: 20\n");
+  const NodeConfig g = load_node_config(gpio);
+  CHECK(g.trigger.enabled);
+  CHECK(g.trigger.edges == "gpiod:gpiochip0:17");
+  CHECK(g.trigger.channel == "TRIGGER");
+  CHECK(g.trigger.max_residual_us == 3000);
+  CHECK(g.trigger.wait_ms == 20);
+  CHECK(g.trigger.clock_offset_ms == 0);
+
+  const NodeConfig w = load_node_config(write("wire.yaml", std::string(kGood) + "trigger: { edges: wire, path: run/wire.sock, "
+                                                                                "channel: TRIG2, clock_offset_ms: -2000 }\n"));
+  CHECK(w.trigger.edges == "wire:" + (w.base_dir / "run/wire.sock").string());
+  CHECK(w.trigger.channel == "TRIG2");
+  CHECK(w.trigger.clock_offset_ms == -2000);
+
+  const auto with = [](const std::string& trigger) { return error_of(std::string(kGood) + "trigger:\n" + trigger); };
+  CHECK_THAT(with("  chip: gpiochip0\n"), Catch::Contains("bad.yaml: trigger.edges: missing (required)"));
+  CHECK_THAT(with("  edges: serial\n"), Catch::Contains("trigger.edges: unknown trigger input 'serial'"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n"), Catch::Contains("trigger.line: missing (required)"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: -1\n"), Catch::Contains("trigger.line: must be in [0, 65535]"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: 1\n  path: x\n"), Catch::Contains("trigger.path: only for edges: wire"));
+  CHECK_THAT(with("  edges: wire\n"), Catch::Contains("trigger.path: missing (required)"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  line: 3\n"), Catch::Contains("trigger.line: only for edges: gpiod"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  wait_ms: 99999\n"), Catch::Contains("trigger.wait_ms: must be in [0, 10000]"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  mode: nearest\n"), Catch::Contains("trigger.mode: unknown field"));
+}

@@ -78,6 +78,39 @@ TEST_CASE("file source replays an image sequence with counters and timestamps") 
   CHECK(cv::norm(f.image, cv::imread(test::indexed(dir / "cam2", "rgb", 0)), cv::NORM_INF) == 0);
 }
 
+TEST_CASE("a triggered file source shows the frame of the trigger's sequence") {
+  const fs::path dir = sequence_dir();  // 3 frames
+  Params p("source");
+  p.set("path", "cam2/rgb_%06d.png");
+  auto src = SourceRegistry::builtin().create("file", p, context(64, 48, dir));
+  REQUIRE(src->triggerable());
+  src->start();
+  Frame f;
+  const auto shows = [&](int k) { return cv::norm(f.image, cv::imread(test::indexed(dir / "cam2", "rgb", k)), cv::NORM_INF) == 0; };
+  src->expose(2, 777);
+  REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(shows(2));
+  CHECK(f.capture_utime == 777);
+  src->prepare(1);  // decoded ahead, then handed out at the trigger
+  src->expose(1, 888);
+  REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(shows(1));
+  CHECK(f.capture_utime == 888);
+  src->prepare(0);  // a different trigger came: the prepared frame is not used
+  src->expose(2, 999);
+  REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(shows(2));
+  src->expose(3, 1000);  // past the recording
+  CHECK(src->grab(f, 0) == GrabStatus::kEndOfStream);
+
+  p.set("loop", "true");
+  auto looping = SourceRegistry::builtin().create("file", p, context(64, 48, dir));
+  looping->start();
+  looping->expose(7, 1);
+  REQUIRE(looping->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(shows(1));
+}
+
 TEST_CASE("file source errors name the camera and the file") {
   const fs::path dir = sequence_dir();
   Params missing("source");
@@ -159,6 +192,17 @@ TEST_CASE("the synthetic source renders this camera's view of the synthetic rig"
       CHECK(cv::countNonZero(synthetic->truth()) > 50);
   }
   CHECK(src->grab(f, 0) == GrabStatus::kEndOfStream);
+
+  // Triggered: after the empty room, trigger k shows motion frame k, whatever came before.
+  auto triggered = SourceRegistry::builtin().create("synthetic", p, c);
+  triggered->start();
+  for (int i = 0; i < 2; ++i) REQUIRE(triggered->grab(f, 0) == GrabStatus::kFrame);
+  triggered->expose(1, 123);
+  REQUIRE(triggered->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(f.capture_utime == 123);
+  src->start();
+  for (int i = 0; i < 4; ++i) REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);  // 2 empty + motion 0, 1
+  CHECK(cv::countNonZero(dynamic_cast<SyntheticSource&>(*triggered).truth() != synthetic->truth()) == 0);
 
   Params bad("cam.yaml: source");
   bad.set("motion", "moonwalk");

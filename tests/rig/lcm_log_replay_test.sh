@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Recording and replay with LCM's own tools: a small rig (trigger master, 3 stand-in camera
-# nodes) runs over loopback multicast while lcm-logger records it; the log then replays through
+# Recording and replay with LCM's own tools: a small rig (trigger master, 3 camera nodes
+# replaying sequence-coded masks) runs over loopback multicast while lcm-logger records it; the log then replays through
 # lcm-logplayer into a fusion host on another LCM URL. Every trigger sequence in the log must come
 # out as exactly one skeleton, valid wherever the log holds all three silhouettes.
 # usage: lcm_log_replay_test.sh BUILD_DIR
@@ -18,14 +18,14 @@ cleanup() {
 trap cleanup EXIT
 wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 200)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 
-"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA
+"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA 90
+"$(dirname "$0")/../../tools/demo/node-configs.sh" "$work" 3 "$work/rig.yaml" "$url_a" "$work/wire.sock" masks:seq
 lcm-logger --lcm-url="$url_a" -f "$work/rig.lcmlog" 2> "$work/logger.log" & logger=$!; pids+=($logger)
 "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate 30 --line "wire:$work/wire.sock" \
   --lcm-url "$url_a" --count 90 --wait-nodes 3 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for "$work/wire.sock"
 for c in 0 1 2; do
-  "$build/tests/rig/rig_stand_in_camera_node" --rig "$work/rig.yaml" --camera-id $c --edges "wire:$work/wire.sock" \
-    --lcm-url "$url_a" --duration-s 6 2> "$work/cam$c.log" & pids+=($!)
+  "$build/camera_node/app/hullpose-camera-node" --config "$work/node$c.yaml" 2> "$work/cam$c.log" & pids+=($!)
 done
 wait "$master"
 sleep 0.3  # let the last silhouettes reach the logger (not a timing assertion)

@@ -21,7 +21,8 @@ master() {
     --lcm-url "$url" --count 60 2>> "$work/master.log"
 }
 
-"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA
+"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA 60
+"$(dirname "$0")/../../tools/demo/node-configs.sh" "$work" 3 "$work/rig.yaml" "$url" "$work/wire.sock" masks:seq
 "$build/tests/rig/rig_stub_fusion_host" --rig "$work/rig.yaml" --lcm-url "$url" --min-cameras 2 --duration-s 30 \
   --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --count 120 --duration-s 30 \
@@ -30,15 +31,14 @@ wait_for "$work/host.ready"; wait_for "$work/listen.ready"
 master & first=$!; pids+=($first)
 wait_for "$work/wire.sock"
 for c in 0 1 2; do
-  "$build/tests/rig/rig_stand_in_camera_node" --rig "$work/rig.yaml" --camera-id $c --edges "wire:$work/wire.sock" \
-    --lcm-url "$url" --duration-s 25 2> "$work/cam$c.log" & pids+=($!)
+  "$build/camera_node/app/hullpose-camera-node" --config "$work/node$c.yaml" 2> "$work/cam$c.log" & pids+=($!)
 done
 wait "$first"
 master  # the restart: a new process, a new epoch, sequences from 0
 wait "$listener" || true
 kill -INT "$host" 2>/dev/null || true; wait "$host" || true
 
-grep -h "stand-in\|rig-stub" "$work"/*.log || true
+grep -h "stopped after\|rig-stub" "$work"/*.log || true
 /usr/bin/python3 - "$work/skeletons.csv" "$work/cam0.log" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

@@ -300,6 +300,37 @@ TEST_CASE("externally triggered camera: the frame at each edge is tagged") {
   CHECK(listener.foreign_announcements() == 1);
 }
 
+TEST_CASE("simulated sensor: exactly one frame per edge, exposed just after it") {
+  SimEdgeSource edges;
+  ListenerConfig cfg;
+  cfg.rig_id = "rigA";
+  cfg.expose_after_edge_us = 200;
+  TriggerListener listener(cfg, edges);
+  std::vector<TaggedFrame> out;
+  const int64_t off = -2'000'000;
+  for (int k = 0; k < 20; ++k) {
+    const int64_t u = kMasterStart + k * kPeriod;
+    if (k != 9) edges.push(u + off);  // edge 9 never reached this board: no frame for it
+    hullpose_msg::trigger_t t{};
+    t.utime = u;
+    t.rig_id = "rigA";
+    t.seq = k;
+    t.period_us = kPeriod;
+    t.epoch = 11;
+    listener.on_announcement(t, u + off + 900);
+    listener.poll(u + off + 1000, out);
+  }
+  listener.poll(kMasterStart + 30 * kPeriod + off, out);
+  REQUIRE(out.size() == 19);
+  for (size_t i = 0; i < out.size(); ++i) {
+    const int64_t k = static_cast<int64_t>(i < 9 ? i : i + 1);
+    CHECK(out[i].edge.seq == k);
+    CHECK(out[i].frame_id == static_cast<int64_t>(i));
+    CHECK(out[i].residual_us == 200);
+    CHECK(out[i].capture_utime() == kMasterStart + k * kPeriod + 200);
+  }
+}
+
 TEST_CASE("free-running camera: the nearest frame to each edge, with its residual") {
   FrameMatcherConfig cfg;
   const int64_t frame_interval = 16'000;  // ~62.5 fps, not locked to the 30 Hz trigger

@@ -111,8 +111,8 @@ TEST_CASE("the simulated wire carries kernel-style edge stamps to every connecte
   auto a = hullpose::trigger::open_edge_source("wire:" + path, {});
   auto b = hullpose::trigger::open_edge_source("wire:" + path, skewed);
   const int64_t before = hullpose::monotonic_us();
-  line->set(true);
-  line->set(false);
+  const int64_t first = line->set(true);  // the stamp it sent, for the master's announcement
+  CHECK(line->set(false) == -1);
   line->set(true);
   const int64_t after = hullpose::monotonic_us();
   for (auto* src : {a.get(), b.get()}) {
@@ -124,6 +124,7 @@ TEST_CASE("the simulated wire carries kernel-style edge stamps to every connecte
     REQUIRE(src->read(e2));
     const int64_t skew = src == b.get() ? 2'000'000 : 0;
     CHECK(e1 - skew >= before);
+    CHECK(e1 - skew == first);
     CHECK(e2 - skew <= after);
     CHECK(e2 >= e1);
     int64_t none = 0;

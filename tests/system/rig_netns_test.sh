@@ -3,15 +3,17 @@
 # and the fusion host each in their own namespace, joined by a bridge, LCM multicast across it.
 # Faults, all in one run: camera 1 is killed mid-run and restarted, camera 3's link drops 10 % of
 # LCM datagrams (nftables), camera 5's clock is 2 s off, camera 6 also sends garbage and hostile
-# messages on SILHOUETTE; camera 7 is free-running at 50 fps (no trigger input: the frame nearest
-# each edge is used). Checks: every trigger sequence is published exactly once (fused, or
-# with its reason), no frame mixes sequences, the faults degrade frames as expected only.
+# messages on SILHOUETTE (tests/rig/hostile_sender.cpp, a peer in camera 6's namespace answering
+# each of its silhouettes with four bad copies). Checks: every trigger sequence is published
+# exactly once (fused, or with its reason), no frame mixes sequences, the faults degrade frames
+# as expected only.
 #
 # usage: rig_netns_test.sh BUILD_DIR [FRAMES=300] [RATE=30] [NUM=8]
-# The nodes are tests/rig/stand_in_camera_node (real trigger stage; masks that carry their own
-# sequence number) and the host runs the sequence-checking pipeline (tests/rig/
-# seq_check_pipeline.hpp), which proves that no fused frame mixes views of different triggers;
-# rig_netns_accuracy_test.sh runs the real fusion host on rendered data.
+# The nodes are the real hullpose-camera-node, each replaying a recording of masks that carry
+# their own sequence number (rig_write_test_rig; frame k shows k) as a simulated sensor on the
+# trigger wire, passed through unchanged (threshold method); the host runs the sequence-checking
+# pipeline (tests/rig/seq_check_pipeline.hpp), which proves that no fused frame mixes views of
+# different triggers. rig_netns_accuracy_test.sh runs the real fusion host on rendered data.
 set -euo pipefail
 build=$(cd "$1" && pwd)
 frames=${2:-300} rate=${3:-30} num=${4:-8}
@@ -37,7 +39,9 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" "$num" 160 120 rigA
+"$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" "$num" 160 120 rigA "$frames"
+"$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
+echo "  clock_offset_ms: 2000" >> "$work/node5.yaml"  # camera 5's board clock is 2 s off
 "$netns" create "$prefix" "$num" >/dev/null
 "$netns" loss "$prefix" cam3 "$port" 10
 # spawn LOG NAMESPACE COMMAND...: starts COMMAND in the namespace; its pid is in $spawned.
@@ -70,19 +74,15 @@ master=$spawned
 wait_until 10 test -S "$wire"
 declare -A cam_pid
 start_cam() {
-  local c=$1 extra=()
-  [[ $c == 5 ]] && extra+=(--clock-offset-ms 2000)
-  [[ $c == 6 ]] && extra+=(--hostile)
-  [[ $c == 7 ]] && extra+=(--free-running-fps 50)
-  spawn "$work/cam$c.log" "cam$c" "$build/tests/rig/rig_stand_in_camera_node" --rig "$work/rig.yaml" --camera-id "$c" \
-    --edges "wire:$wire" --lcm-url "$url" --duration-s "$seconds" "${extra[@]}"
-  cam_pid[$c]=$spawned
+  spawn "$work/cam$1.log" "cam$1" "$build/camera_node/app/hullpose-camera-node" --config "$work/node$1.yaml"
+  cam_pid[$1]=$spawned
 }
 for ((c = 0; c < num; c++)); do start_cam "$c"; done
+spawn "$work/hostile.log" cam6 "$build/tests/rig/rig_hostile_sender" --lcm-url "$url" --camera-id 6 --duration-s "$seconds"
 
 # Kill camera 1 a third of the way in, restart it at half way.
 wait_until "$seconds" have_rows $(( frames / 3 ))
-kill "${cam_pid[1]}"; wait "${cam_pid[1]}" || true
+kill -KILL "${cam_pid[1]}"; wait "${cam_pid[1]}" || true  # a crash: no goodbye
 killed_at=$(rows)
 wait_until "$seconds" have_rows $(( frames / 2 ))
 restarted_at=$(rows)
@@ -97,7 +97,8 @@ wait 2>/dev/null || true
 pids=()
 
 cat "$work/master.log" "$work/host.log" "$work/listen.log" | grep -v INFO || true
-grep -h "stand-in" "$work"/cam*.log || true
+grep -h "stopped after" "$work"/cam*.log || true
+cat "$work/hostile.log"
 /usr/bin/python3 - "$work" "$frames" "$num" "$killed_at" "$restarted_at" <<'PY'
 import csv, re, sys
 work, frames, num, killed_at, restarted_at = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5])
@@ -129,12 +130,10 @@ if not 0.01 <= loss3 <= 0.5: fail.append(f"camera 3 missing from {loss3:.1%} of 
 c5 = frac(valid, lambda r: has(r, 5))
 print(f"  camera 5 (clock +2 s): in {c5:.0%} of valid frames")
 if c5 < 0.8: fail.append("camera 5 with its clock 2 s off is not labelling frames correctly")
-c7 = frac(valid, lambda r: has(r, 7))
-print(f"  camera 7 (free-running 50 fps, nearest frame): in {c7:.0%} of valid frames")
-if num > 7 and c7 < 0.8: fail.append("the free-running camera 7 is missing from too many frames")
-res = re.findall(r"camera 7: .*max (\d+) us;", open(f"{work}/cam7.log").read()) if num > 7 else []
-print(f"  camera 7 |frame - edge| residual max: {res} us (limit 10000: half its frame interval)")
-if num > 7 and (not res or any(int(r) > 10000 for r in res)): fail.append("camera 7's residual exceeds half a frame interval")
+others = [c for c in range(num) if c not in (1, 3)]
+low = {c: frac(valid, lambda r, c=c: has(r, c)) for c in others}
+print(f"  cameras {others} present in {min(low.values()):.0%}..{max(low.values()):.0%} of valid frames")
+if min(low.values()) < 0.9: fail.append(f"a healthy camera is missing from too many frames: {low}")
 host = open(f"{work}/host.log").read()
 counts = {k: int(v) for k, v in re.findall(r"(\w+)=(\d+)", host)}
 hostile = sum(counts.get(k, 0) for k in ("malformed_lcm", "decode_error", "bad_fields", "foreign_rig", "unknown_camera", "wrong_size", "implausible_time", "inconsistent_utime"))

@@ -27,7 +27,7 @@ rm -f "$work"/*.ready "$wire"
 for f in "$work"/node*.yaml; do  # node config files may carry the templates too
   [[ -e $f ]] && sed -i "s|{url}|$url|g; s|{wire}|$wire|g" "$f"
 done
-duration=$(( frames / rate + 20 ))
+duration=$(( frames / rate + 90 ))  # nodes may take a while to load before the master starts
 live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
 
 "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \

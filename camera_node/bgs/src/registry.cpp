@@ -5,6 +5,7 @@
 #include "hullpose/camera_node/horprasert.hpp"
 #include "hullpose/camera_node/opencv_subtractors.hpp"
 #include "hullpose/camera_node/sobs.hpp"
+#include "hullpose/camera_node/threshold.hpp"
 #include "hullpose/common/check.hpp"
 
 namespace hullpose::camera_node {
@@ -30,6 +31,9 @@ const Entry kMethods[] = {
      }},
     {"knn", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<OpenCvSubtractor>(OpenCvSubtractor::Kind::kKnn, p);
+     }},
+    {"threshold", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+       return std::make_unique<ThresholdSubtractor>(p);
      }},
 };
 

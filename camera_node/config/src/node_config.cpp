@@ -115,7 +115,7 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
   const Reader r(name);
   const cv::FileNode root = fs.root();
   HULLPOSE_THROW_UNLESS(root.isMap(), name << ": top level must be a mapping");
-  r.only_keys(root, "", {"camera_id", "rig_file", "source", "bgs", "post", "lcm"});
+  r.only_keys(root, "", {"camera_id", "rig_file", "source", "bgs", "post", "lcm", "trigger"});
 
   c.camera_id = r.integer(root, "camera_id", "", true, -1, 0, 63);
   c.rig_file = resolve(c.base_dir, r.string(root, "rig_file", "", true));
@@ -158,6 +158,39 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
     c.lcm.status_channel = r.string(lcm, "status_channel", "lcm", false, c.lcm.status_channel);
     c.lcm.queue_depth = r.integer(lcm, "queue_depth", "lcm", false, c.lcm.queue_depth, 1, 1024);
     c.lcm.status_period_ms = r.integer(lcm, "status_period_ms", "lcm", false, c.lcm.status_period_ms, 10, 600000);
+  }
+
+  const cv::FileNode trigger = r.map(root, "trigger", "", false);
+  if (Reader::present(trigger)) {
+    TriggerConfig& t = c.trigger;
+    t.enabled = true;
+    r.only_keys(trigger, "trigger", {"edges", "chip", "line", "path", "channel", "max_residual_us", "wait_ms",
+                                     "connect_timeout_ms", "clock_offset_ms"});
+    const std::string edges = r.string(trigger, "edges", "trigger", true);
+    const auto only_for = [&](const char* key, const char* kind) {
+      HULLPOSE_THROW_UNLESS(!Reader::present(trigger[key]),
+                            r.where(std::string("trigger.") + key) << ": only for edges: " << kind);
+    };
+    if (edges == "gpiod") {
+      const std::string chip = r.string(trigger, "chip", "trigger", true);
+      const int line = r.integer(trigger, "line", "trigger", true, 0, 0, 65535);
+      only_for("path", "wire");
+      HULLPOSE_THROW_UNLESS(chip.find(':') == std::string::npos, r.where("trigger.chip") << ": '" << chip
+                                                                                           << "' must not contain ':'");
+      t.edges = "gpiod:" + chip + ":" + std::to_string(line);
+    } else if (edges == "wire") {
+      t.edges = "wire:" + resolve(c.base_dir, r.string(trigger, "path", "trigger", true)).string();
+      only_for("chip", "gpiod");
+      only_for("line", "gpiod");
+    } else {
+      HULLPOSE_THROW(r.where("trigger.edges") << ": unknown trigger input '" << edges
+                                              << "' (gpiod: the trigger GPIO; wire: a simulated rig's wire)");
+    }
+    t.channel = r.string(trigger, "channel", "trigger", false, t.channel);
+    t.max_residual_us = r.integer(trigger, "max_residual_us", "trigger", false, t.max_residual_us, 1, 1'000'000);
+    t.wait_ms = r.integer(trigger, "wait_ms", "trigger", false, t.wait_ms, 0, 10'000);
+    t.connect_timeout_ms = r.integer(trigger, "connect_timeout_ms", "trigger", false, t.connect_timeout_ms, 0, 600'000);
+    t.clock_offset_ms = r.integer(trigger, "clock_offset_ms", "trigger", false, 0, -3'600'000, 3'600'000);
   }
   return c;
 }

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include "hullpose/camera_node/trigger_stage.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
@@ -29,7 +30,7 @@ Rig load_rig_for(const NodeConfig& c) {
 
 }  // namespace
 
-CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
+CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources, std::unique_ptr<FrameTrigger> trigger)
     : config_(std::move(config)),
       rig_(load_rig_for(config_)),
       cleanup_({config_.post.open_radius, config_.post.close_radius, config_.post.min_blob_area}) {
@@ -61,6 +62,11 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources)
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
   publisher_ = std::make_unique<SilhouettePublisher>(config_.lcm, rig_.rig_id, config_.camera_id, counters_);
+  trigger_ = std::move(trigger);
+  if (!trigger_ && config_.trigger.enabled) {
+    trigger_ = std::make_unique<TriggerStage>(config_.trigger, config_.lcm, rig_.rig_id, config_.camera_id,
+                                              source_->triggerable());
+  }
   mask_ = cv::Mat::zeros(camera_.height, camera_.width, CV_8UC1);
   roi_mask_.create(roi_.size(), CV_8UC1);
 }
@@ -81,6 +87,7 @@ void CameraNode::start() {
   HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": " << source_->describe() << ", method "
                            << subtractor_->name();
   learn_background();
+  if (trigger_) trigger_->start();  // after learning: a simulated master waits for every node's wire
   interval_start_us_ = monotonic_us();
 }
 
@@ -138,7 +145,8 @@ const cv::Mat& CameraNode::process(const Frame& frame, const TriggerStamp& stamp
   SilhouetteStamp s;
   s.trigger_seq = stamp.seq;
   s.trigger_utime = stamp.utime;
-  s.capture_utime = frame.capture_utime;
+  s.capture_utime = frame.capture_utime - stamp.clock_offset_us;
+  s.clock_offset_us = stamp.clock_offset_us;
   s.capture_us = last_capture_us_;
   s.subtract_us = subtract_us;
   s.morphology_us = morphology_us;
@@ -156,19 +164,31 @@ const cv::Mat& CameraNode::process(const Frame& frame, const TriggerStamp& stamp
   return mask_;
 }
 
-void CameraNode::run(const std::atomic<bool>& stop_requested, const FrameStamper& stamper) {
+void CameraNode::run(const std::atomic<bool>& stop_requested) {
+  constexpr int kWaitMs = 200;  // how often the stop flag is looked at while nothing comes
+  const bool exposes_on_trigger = trigger_ && source_->triggerable();
   Frame frame;
   while (!stop_requested.load(std::memory_order_relaxed)) {
-    const GrabStatus s = capture(frame, 200);
+    std::optional<TriggerStamp> stamp;
+    if (exposes_on_trigger) {
+      stamp = trigger_->next_instant(kWaitMs);
+      if (!stamp) continue;
+      source_->expose(stamp->seq, stamp->capture_utime);
+    }
+    const GrabStatus s = capture(frame, kWaitMs);
     if (s == GrabStatus::kEndOfStream) break;
     if (s == GrabStatus::kTimeout) continue;
-    std::optional<TriggerStamp> stamp =
-        stamper ? stamper(frame) : std::optional<TriggerStamp>(TriggerStamp{frame.sequence, frame.capture_utime});
+    if (!trigger_) {
+      stamp = TriggerStamp{frame.sequence, frame.capture_utime};
+    } else if (!exposes_on_trigger) {
+      stamp = trigger_->stamp(frame);
+    }
     if (!stamp) {
       counters_.add("no_trigger");
       continue;
     }
     process(frame, *stamp);
+    if (exposes_on_trigger) source_->prepare(stamp->seq + 1);  // the next trigger's, usually
   }
 }
 
@@ -179,6 +199,12 @@ void CameraNode::stop() {
     started_ = false;
     publisher_->flush();  // the final STATUS counts every silhouette sent
     maybe_publish_status(true, hullpose_msg::node_status_t::STATE_STOPPED, "stopped");
+    std::vector<std::pair<std::string, int64_t>> report = counters_.snapshot();
+    if (trigger_) trigger_->report(report);
+    std::string line;
+    for (const auto& [name, value] : report) line += " " + name + "=" + std::to_string(value);
+    HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": stopped after " << frames_total_
+                             << " silhouettes;" << line;
   }
   publisher_->flush();
 }
@@ -212,6 +238,7 @@ void CameraNode::maybe_publish_status(bool force, int8_t state, const std::strin
   auto counters = counters_.snapshot();
   counters.emplace_back("bytes_sent", publisher_->bytes_sent());
   counters.emplace_back("messages_sent", publisher_->messages_sent());
+  if (trigger_) trigger_->report(counters);
   for (const auto& [name, value] : counters) {
     st.counter_name.push_back(name);
     st.counter_value.push_back(value);

@@ -69,7 +69,7 @@ bool SilhouettePublisher::publish(const cv::Mat& mask, const SilhouetteStamp& st
   m.subtract_us = stamp.subtract_us;
   m.morphology_us = stamp.morphology_us;
   m.encode_us = enc_us;
-  m.node_done_utime = realtime_utime();
+  m.node_done_utime = realtime_utime() - stamp.clock_offset_us;
   if (encode_us) *encode_us = enc_us;
 
   lock.lock();

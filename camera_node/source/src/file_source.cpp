@@ -1,5 +1,6 @@
 #include "hullpose/camera_node/file_source.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
@@ -88,26 +89,73 @@ void FileSource::start() {
     HULLPOSE_THROW_UNLESS(video_.open(path_), "camera " << camera_id_ << ": file source: OpenCV cannot open video "
                                                         << path_);
   }
+  exposed_index_ = -1;
+  prepared_index_ = -1;
+  if (pattern_) {
+    count_ = 0;
+    while (std::filesystem::exists(IndexPattern{prefix_, suffix_, width_}.at(first_index_ + count_))) ++count_;
+  } else {
+    count_ = static_cast<int>(video_.get(cv::CAP_PROP_FRAME_COUNT));
+    if (count_ <= 0) count_ = -1;
+  }
   if (preload_) {
     frames_.clear();
     cv::Mat m;
     while (read_next(m)) frames_.push_back(m.clone());
     next_index_ = 0;
+    count_ = static_cast<int>(frames_.size());
   }
 }
 
+int64_t FileSource::frame_of(int64_t trigger_seq) const {
+  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << camera_id_ << ": file source: trigger sequence "
+                                                    << trigger_seq << " is negative");
+  return loop_ && count_ > 0 ? trigger_seq % count_ : std::min<int64_t>(trigger_seq, 1 << 30);
+}
+
+void FileSource::expose(int64_t trigger_seq, int64_t capture_utime) {
+  exposed_index_ = frame_of(trigger_seq);
+  exposed_utime_ = capture_utime;
+}
+
+void FileSource::prepare(int64_t trigger_seq) {
+  const int index = static_cast<int>(frame_of(trigger_seq));
+  if (!pattern_ || preload_ || index == prepared_index_ || (count_ >= 0 && index >= count_)) return;
+  const int saved = next_index_;
+  next_index_ = index;
+  prepared_index_ = read_next(prepared_) ? index : -1;
+  next_index_ = saved;
+}
+
+void FileSource::seek(int index) {
+  if (!pattern_ && !preload_ && index != next_index_) video_.set(cv::CAP_PROP_POS_FRAMES, index);
+  next_index_ = index;
+}
+
 GrabStatus FileSource::grab(Frame& frame, int /*timeout_ms*/) {
+  const bool exposed = exposed_index_ >= 0;
+  if (exposed) {
+    seek(static_cast<int>(exposed_index_));
+    exposed_index_ = -1;
+  }
+  const bool loop = loop_ && !exposed;  // a trigger's frame was wrapped by expose() already
   bool ok = false;
   if (preload_) {
     if (frames_.empty()) return GrabStatus::kEndOfStream;
-    if (next_index_ >= static_cast<int>(frames_.size()) && loop_) next_index_ = 0;
+    if (next_index_ >= static_cast<int>(frames_.size()) && loop) next_index_ = 0;
     if (next_index_ < static_cast<int>(frames_.size())) {
       frame.image = frames_[static_cast<size_t>(next_index_++)];
       ok = true;
     }
+  } else if (exposed && next_index_ == prepared_index_) {
+    std::swap(image_, prepared_);  // decoded while the node waited for this trigger
+    prepared_index_ = -1;
+    ++next_index_;
+    ok = true;
+    frame.image = image_;
   } else {
     ok = read_next(image_);
-    if (!ok && loop_ && delivered_ > 0) {
+    if (!ok && loop && delivered_ > 0) {
       next_index_ = 0;
       if (!pattern_) video_.set(cv::CAP_PROP_POS_FRAMES, 0);
       ok = read_next(image_);
@@ -116,7 +164,8 @@ GrabStatus FileSource::grab(Frame& frame, int /*timeout_ms*/) {
   }
   if (!ok) return GrabStatus::kEndOfStream;
   frame.sequence = delivered_;
-  frame.capture_utime = t0_ + static_cast<int64_t>(std::llround(static_cast<double>(delivered_) * 1e6 / fps_));
+  frame.capture_utime =
+      exposed ? exposed_utime_ : t0_ + static_cast<int64_t>(std::llround(static_cast<double>(delivered_) * 1e6 / fps_));
   ++delivered_;
   return GrabStatus::kFrame;
 }

@@ -1,5 +1,6 @@
 #include "hullpose/camera_node/synthetic_source.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hullpose/common/check.hpp"
@@ -24,6 +25,7 @@ struct SyntheticSource::Impl {
   std::unique_ptr<synth::Scene> scene;
   std::unique_ptr<synth::CameraRenderer> renderer;
   int64_t next = 0, limit = 0, t0 = 0;
+  int64_t exposed_utime = -1;  // >= 0: the next grab() is a trigger's exposure
   cv::Mat image, truth;
 };
 
@@ -73,6 +75,7 @@ void SyntheticSource::start() {
   body.stature_mm = m.motion->stature_mm();
   m.renderer = std::make_unique<synth::CameraRenderer>(*m.motion, body, m.camera, *m.scene, m.fps);
   m.next = 0;
+  m.exposed_utime = -1;
   m.t0 = m.start_utime > 0 ? m.start_utime : realtime_utime();
 }
 
@@ -90,9 +93,20 @@ GrabStatus SyntheticSource::grab(Frame& frame, int /*timeout_ms*/) {
   }
   frame.image = m.image;
   frame.sequence = m.next;
-  frame.capture_utime = m.t0 + static_cast<int64_t>(std::llround(static_cast<double>(m.next) * 1e6 / m.fps));
+  frame.capture_utime = m.exposed_utime >= 0
+                            ? m.exposed_utime
+                            : m.t0 + static_cast<int64_t>(std::llround(static_cast<double>(m.next) * 1e6 / m.fps));
+  m.exposed_utime = -1;
   ++m.next;
   return GrabStatus::kFrame;
+}
+
+void SyntheticSource::expose(int64_t trigger_seq, int64_t capture_utime) {
+  Impl& m = *impl_;
+  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << m.camera.id << ": synthetic source: trigger sequence "
+                                                    << trigger_seq << " is negative");
+  m.next = m.empty_frames + std::min<int64_t>(trigger_seq, 1 << 30);
+  m.exposed_utime = capture_utime;
 }
 
 const cv::Mat& SyntheticSource::truth() const { return impl_->truth; }

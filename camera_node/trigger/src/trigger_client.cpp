@@ -17,6 +17,7 @@ TriggerClient::TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerCon
   HULLPOSE_THROW_UNLESS(bus_.good(), "trigger client: the LCM handle is not usable");
   subscription_ = bus_.subscribe(channel, &TriggerClient::on_trigger, this);
   tagged_.reserve(MapperConfig::kEdges);
+  for (const char* name : {"malformed_trigger", "tag_after_timeout", "untagged_frame", "overrun"}) counters_.add(name, 0);
 }
 
 TriggerClient::~TriggerClient() { bus_.unsubscribe(subscription_); }
@@ -30,27 +31,63 @@ void TriggerClient::on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string
   listener_.on_announcement(msg_, node_now_());
 }
 
+template <class Done>
+bool TriggerClient::pump(int wait_ms, Done&& done) {
+  const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
+  for (;;) {
+    pollfd fds[2] = {{edges_.fd(), POLLIN, 0}, {bus_.getFileno(), POLLIN, 0}};
+    while (::poll(&fds[1], 1, 0) > 0 && (fds[1].revents & POLLIN)) bus_.handle();
+    const size_t before = tagged_.size();
+    listener_.poll(node_now_(), tagged_);
+    if (done(before)) return true;
+    const int64_t left_us = until - monotonic_us();
+    if (left_us <= 0) return false;
+    if (fds[0].fd >= 0 && listener_.idle()) {
+      // Nothing pending: sleep until the next edge. The bus carries the whole rig's traffic (every
+      // node's silhouettes); its TRIGGER announcement follows the edge within a fraction of a
+      // millisecond and is handled then, so the node wakes once per trigger, not once per message.
+      ::poll(&fds[0], 1, static_cast<int>(1 + left_us / 1000));
+    } else {
+      ::poll(fds[0].fd >= 0 ? fds : &fds[1], fds[0].fd >= 0 ? 2 : 1, static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5)));
+    }
+  }
+}
+
 std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
   // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
   const int64_t frame_us = frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
   listener_.on_frame(frame_id, frame_us);
-  const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
-  for (;;) {
-    pollfd fds[2] = {{bus_.getFileno(), POLLIN, 0}, {edges_.fd(), POLLIN, 0}};
-    while (::poll(fds, 1, 0) > 0 && (fds[0].revents & POLLIN)) bus_.handle();
-    tagged_.clear();
-    listener_.poll(node_now_(), tagged_);
-    for (const TaggedFrame& t : tagged_) {
-      if (t.frame_id == frame_id) return t;
-      counters_.add("tag_after_timeout");  // an earlier frame, already given up on
+  std::optional<TaggedFrame> found;
+  tagged_.clear();
+  pump(wait_ms, [&](size_t from) {
+    for (size_t i = from; i < tagged_.size(); ++i) {
+      if (tagged_[i].frame_id == frame_id) {
+        found = tagged_[i];
+      } else {
+        counters_.add("tag_after_timeout");  // an earlier frame, already given up on
+      }
     }
-    const int64_t left_us = until - monotonic_us();
-    if (left_us <= 0) break;
-    const int timeout = static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5));
-    ::poll(fds, edges_.fd() >= 0 ? 2 : 1, timeout);
+    tagged_.clear();
+    return found.has_value();
+  });
+  if (!found) counters_.add("untagged_frame");
+  return found;
+}
+
+std::optional<TaggedFrame> TriggerClient::next_exposure(int wait_ms) {
+  if (next_tagged_ == tagged_.size()) {
+    tagged_.clear();
+    next_tagged_ = 0;
+    if (!pump(wait_ms, [&](size_t) { return !tagged_.empty(); })) return std::nullopt;
   }
-  counters_.add("untagged_frame");
-  return std::nullopt;
+  // Like a camera's driver queue: a node that falls behind finds at most kSensorBuffers exposures
+  // waiting; older ones were overwritten (counted), so it catches up instead of lagging for good.
+  const size_t waiting = tagged_.size() - next_tagged_;
+  if (waiting > kSensorBuffers) {
+    counters_.add("overrun", static_cast<int64_t>(waiting - kSensorBuffers));
+    next_tagged_ = tagged_.size() - kSensorBuffers;
+  }
+  return tagged_[next_tagged_++];
 }
 
 }  // namespace hullpose::trigger

@@ -17,7 +17,10 @@ void TriggerListener::on_announcement(const hullpose_msg::trigger_t& msg, int64_
 
 void TriggerListener::poll(int64_t now_us, std::vector<TaggedFrame>& out) {
   int64_t edge = 0;
-  while (edges_.read(edge)) mapper_.on_edge(edge);
+  while (edges_.read(edge)) {
+    mapper_.on_edge(edge);
+    if (config_.expose_after_edge_us >= 0) matcher_.on_frame(exposed_++, edge + config_.expose_after_edge_us);
+  }
   mapped_.clear();
   mapper_.poll(now_us, mapped_);
   for (const MappedEdge& e : mapped_) matcher_.on_edge(e);

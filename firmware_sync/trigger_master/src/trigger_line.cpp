@@ -33,7 +33,10 @@ class GpiodTriggerLine final : public TriggerLine {
                                      << "); on a machine without the trigger GPIO use --line wire:PATH or sim");
     }
   }
-  void set(bool high) override { line_.set_value(high ? 1 : 0); }
+  int64_t set(bool high) override {
+    line_.set_value(high ? 1 : 0);
+    return -1;
+  }
   std::string describe() const override { return name_; }
 
  private:
@@ -71,8 +74,8 @@ class WireTriggerLine final : public TriggerLine {
   WireTriggerLine(const WireTriggerLine&) = delete;
   WireTriggerLine& operator=(const WireTriggerLine&) = delete;
 
-  void set(bool high) override {
-    if (!high) return;
+  int64_t set(bool high) override {
+    if (!high) return -1;
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
     const int64_t stamp_ns = static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
@@ -87,6 +90,7 @@ class WireTriggerLine final : public TriggerLine {
         ++i;
       }
     }
+    return stamp_ns / 1000;
   }
   std::string describe() const override { return "wire:" + path_; }
   size_t wait_for_nodes(size_t nodes, int timeout_ms) override {

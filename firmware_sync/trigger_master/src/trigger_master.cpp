@@ -67,9 +67,13 @@ int64_t TriggerMaster::pulse() {
     HULLPOSE_LOG(Master, Warn) << "overrun: skipped " << skipped << " trigger slot(s) before seq " << seq_;
   }
   clock_.sleep_until_monotonic_us(next_edge_us_);
-  line_.set(true);
-  const int64_t edge_mono = clock_.monotonic_us();
-  const int64_t edge_utime = clock_.realtime_utime();
+  const int64_t stamped = line_.set(true);
+  const int64_t edge_mono = stamped >= 0 ? stamped : clock_.monotonic_us();
+  // The announced utime is the edge's own instant on the realtime clock. Reading the realtime
+  // clock after set() instead would add any preemption in between (milliseconds on a loaded
+  // machine), and nodes would map the edge to no trigger, or to the wrong one.
+  const int64_t realtime_minus_mono = clock_.realtime_utime() - clock_.monotonic_us();
+  const int64_t edge_utime = edge_mono + realtime_minus_mono;
   jitter_.add(edge_mono - next_edge_us_);
 
   msg_.utime = edge_utime;

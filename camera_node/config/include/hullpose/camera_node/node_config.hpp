@@ -21,6 +21,21 @@
 //     url: udpm://239.255.76.67:7667?ttl=1
 //     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
 //     status_period_ms: 1000
+//   trigger:                        # optional: without it the node is free-running (trigger_seq =
+//                                   # the frame counter, unsynchronised with the other nodes)
+//     edges: gpiod                  # the trigger input: gpiod (the trigger GPIO; production) |
+//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated rigs)
+//     chip: gpiochip0               # gpiod: the chip (name, path or label) ...
+//     line: 17                      # ... and the input line's offset
+//     path: /run/hullpose/wire.sock # wire: the master's socket
+//     channel: TRIGGER              # the master's announcements (sequence, utime)
+//     max_residual_us: 5000         # how far a frame's exposure may be from its edge
+//     wait_ms: 50                   # how long a frame waits for its edge's announcement
+//     connect_timeout_ms: 10000     # wire: how long start() waits for the master's socket
+//     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in production)
+// With a trigger, a camera that exposes on the trigger line (libcamera/v4l2 with external trigger)
+// gets each frame tagged with its edge; a simulated sensor (file, synthetic) exposes exactly one
+// frame per edge, showing the instant of that trigger.
 #include <filesystem>
 #include <opencv2/core/types.hpp>
 #include <string>
@@ -56,6 +71,16 @@ struct LcmConfig {
   int status_period_ms = 1000;
 };
 
+struct TriggerConfig {
+  bool enabled = false;          // a trigger: section is present
+  std::string edges;             // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
+  std::string channel = "TRIGGER";
+  int max_residual_us = 5000;
+  int wait_ms = 50;
+  int connect_timeout_ms = 10000;
+  int clock_offset_ms = 0;
+};
+
 struct NodeConfig {
   std::filesystem::path file;      // where it was read from (for messages)
   std::filesystem::path base_dir;  // relative paths in the file are relative to this
@@ -65,6 +90,7 @@ struct NodeConfig {
   BgsConfig bgs;
   PostConfig post;
   LcmConfig lcm;
+  TriggerConfig trigger;
 };
 
 // Reads and checks the file's structure and scalar ranges; throws hullpose::Error naming the file

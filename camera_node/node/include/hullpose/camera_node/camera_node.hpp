@@ -2,28 +2,30 @@
 // One camera node: frame source -> background subtraction (in the ROI) -> clean-up -> silhouette
 // published on LCM, stamped with the trigger instant the frame belongs to.
 //
-// Lifecycle and the seam for the trigger layer (camera_node/trigger):
+// Lifecycle:
 //
 //   CameraNode node(load_node_config(file));   // validates everything; opens nothing
-//   node.start();                              // opens the camera, learns the background
-//   Frame frame;
-//   while (...) {
-//     if (node.capture(frame, timeout_ms) != GrabStatus::kFrame) ...;
-//     TriggerStamp stamp = <match frame.capture_utime / frame.sequence to a TRIGGER announcement>;
-//     node.process(frame, stamp);              // never blocks on the network
-//   }
+//   node.start();                              // opens the camera, learns the background, then
+//                                              // opens the trigger input (config trigger:)
+//   node.run(stop_flag);                       // capture -> trigger stamp -> process, until stopped
 //   node.stop();
 //
-// or, equivalently, node.run(stop_flag, stamper) with a FrameStamper that maps a frame to its
-// trigger instant (or std::nullopt to drop it, counted "no_trigger"). Without a stamper the node
-// is free-running: trigger_seq = frame.sequence, trigger utime = frame.capture_utime.
+// The trigger layer (camera_node/trigger, through TriggerStage) sits behind FrameTrigger: a camera
+// that exposes on the trigger line has each frame stamped with its edge (stamp()); a simulated
+// sensor (FrameSource::triggerable) waits for the next trigger instant (next_instant()) and
+// exposes that instant's frame, exactly one per edge. Without a trigger the node is free-running:
+// trigger_seq = frame.sequence, trigger utime = frame.capture_utime. A frame without a trigger
+// instant is dropped, counted "no_trigger".
 //
+// One step at a time, as run() does it: node.capture(frame, timeout_ms); node.process(frame, stamp).
 // capture() and process() must be called from one thread (the capture thread). Statistics go on
 // the STATUS channel every lcm.status_period_ms and once more at stop().
 #include <atomic>
-#include <functional>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 #include <opencv2/core/mat.hpp>
 
 #include "hullpose/camera_node/background_subtractor.hpp"
@@ -39,29 +41,49 @@ namespace hullpose::camera_node {
 struct TriggerStamp {
   int64_t seq = 0;    // trigger sequence number announced by firmware_sync
   int64_t utime = 0;  // the trigger edge, microseconds since the epoch (master clock)
+  // This node's realtime clock minus the master's: frame and node times are sent on the master's
+  // clock (silhouette_t capture_utime, node_done_utime). 0 without a trigger.
+  int64_t clock_offset_us = 0;
+  // next_instant(): when the simulated sensor exposes, microseconds since the epoch (node clock).
+  int64_t capture_utime = 0;
 };
 
-using FrameStamper = std::function<std::optional<TriggerStamp>(const Frame&)>;
+// The trigger layer as the capture loop sees it (implemented by TriggerStage).
+class FrameTrigger {
+ public:
+  virtual ~FrameTrigger() = default;
+  // Opens the trigger input; throws hullpose::Error naming the device when it is absent.
+  virtual void start() = 0;
+  // A camera exposing on the trigger line: the trigger instant of `frame`, std::nullopt if none.
+  virtual std::optional<TriggerStamp> stamp(const Frame& frame) = 0;
+  // A simulated sensor: the next trigger instant, waiting up to timeout_ms; std::nullopt if none.
+  virtual std::optional<TriggerStamp> next_instant(int timeout_ms) = 0;
+  // Counters and state for STATUS and the log (mapping drops, clock offset).
+  virtual void report(std::vector<std::pair<std::string, int64_t>>& out) const = 0;
+};
 
 class CameraNode {
  public:
   // Loads the rig, checks the camera id, the ROI and every stage's parameters, opens LCM.
-  // Throws hullpose::Error naming the config file and field.
-  explicit CameraNode(NodeConfig config, const SourceRegistry& sources = SourceRegistry::builtin());
+  // Throws hullpose::Error naming the config file and field. `trigger` replaces the one the
+  // config's trigger: section describes (tests inject simulated edges this way).
+  explicit CameraNode(NodeConfig config, const SourceRegistry& sources = SourceRegistry::builtin(),
+                      std::unique_ptr<FrameTrigger> trigger = nullptr);
   ~CameraNode();
   CameraNode(const CameraNode&) = delete;
   CameraNode& operator=(const CameraNode&) = delete;
 
-  // Opens the source (throws naming the device and what was tried) and learns the background
-  // from bgs.learn_frames frames: of bgs.background if set, else the source's first frames.
+  // Opens the source (throws naming the device and what was tried), learns the background from
+  // bgs.learn_frames frames (of bgs.background if set, else the source's first frames), then
+  // opens the trigger input (throws naming the GPIO chip and line, or the wire).
   void start();
   // The next frame of the source; records the time spent waiting as the capture time.
   GrabStatus capture(Frame& frame, int timeout_ms);
   // Subtracts, cleans up, encodes and queues the silhouette of `frame` stamped with `stamp`.
   // Returns the published mask (full image, 255 = person), valid until the next call.
   const cv::Mat& process(const Frame& frame, const TriggerStamp& stamp);
-  // capture -> stamp -> process until stop_requested or the end of a finite source.
-  void run(const std::atomic<bool>& stop_requested, const FrameStamper& stamper = {});
+  // capture -> trigger stamp -> process until stop_requested or the end of a finite source.
+  void run(const std::atomic<bool>& stop_requested);
   // Stops the source, sends what is queued and a final STATUS. Safe to call twice.
   void stop();
 
@@ -84,6 +106,7 @@ class CameraNode {
   std::unique_ptr<BackgroundSubtractor> subtractor_;
   MaskCleanup cleanup_;
   std::unique_ptr<SilhouettePublisher> publisher_;
+  std::unique_ptr<FrameTrigger> trigger_;
   cv::Mat mask_, roi_mask_;
   bool started_ = false;
   int32_t last_capture_us_ = 0;

@@ -30,6 +30,7 @@ struct SilhouetteStamp {
   int64_t trigger_seq = 0;
   int64_t trigger_utime = 0;
   int64_t capture_utime = 0;
+  int64_t clock_offset_us = 0;  // node realtime clock - master clock: node_done_utime is on the master's
   int32_t capture_us = 0;
   int32_t subtract_us = 0;
   int32_t morphology_us = 0;

@@ -1,7 +1,8 @@
 #pragma once
 // Replays an image sequence (a printf pattern such as cam3/rgb_%06d.png, read from first_index
 // until a file is missing) or a video file (OpenCV videoio). Frame f gets capture_utime =
-// start_utime + f * 1e6 / fps.
+// start_utime + f * 1e6 / fps. Triggered (expose()), the frame is the trigger's sequence number
+// (modulo the length when looping) and the trigger stage's capture time.
 //
 // Parameters: path (required), fps (30), start_utime (0: the time start() was called; quote it in
 // YAML, cv::FileStorage integers are 32-bit),
@@ -21,9 +22,14 @@ class FileSource final : public FrameSource {
   GrabStatus grab(Frame& frame, int timeout_ms) override;
   void stop() override;
   std::string describe() const override;
+  bool triggerable() const override { return true; }
+  void expose(int64_t trigger_seq, int64_t capture_utime) override;
+  void prepare(int64_t trigger_seq) override;
 
  private:
   bool read_next(cv::Mat& out);
+  void seek(int index);
+  int64_t frame_of(int64_t trigger_seq) const;
   std::string path_;
   bool pattern_ = false;
   std::string prefix_, suffix_;  // an image sequence's path around the index ...
@@ -39,9 +45,13 @@ class FileSource final : public FrameSource {
   cv::VideoCapture video_;
   std::vector<cv::Mat> frames_;  // preloaded
   int next_index_ = 0;
+  int count_ = -1;  // frames in the sequence or video, -1 if unknown
+  int64_t exposed_index_ = -1, exposed_utime_ = 0;
   int64_t delivered_ = 0;
   int64_t t0_ = 0;
   cv::Mat image_;
+  cv::Mat prepared_;          // an image sequence's frame prepared_index_, decoded ahead
+  int prepared_index_ = -1;
 };
 
 }  // namespace hullpose::camera_node

@@ -52,6 +52,18 @@ class FrameSource {
   virtual void stop() = 0;
   // One line for logs: backend, device and format.
   virtual std::string describe() const = 0;
+
+  // Simulated sensors (file, synthetic) can be triggered: after expose(), the next grab() returns
+  // the scene at that trigger instant, frame `trigger_seq` of the recording or motion, stamped
+  // capture_utime. The simulated world's clock is the trigger sequence, so every node of a
+  // simulated rig shows the same instant for the same trigger, however late it started. Real
+  // cameras take the trigger on their own input line and return false.
+  virtual bool triggerable() const { return false; }
+  virtual void expose(int64_t /*trigger_seq*/, int64_t /*capture_utime*/) {}
+  // While the node waits for the next trigger, a simulated sensor may get that trigger's scene
+  // ready (file replay decodes the file), so that its frame is ready at the edge as a real
+  // sensor's is, instead of costing the decoding time after it.
+  virtual void prepare(int64_t /*trigger_seq*/) {}
 };
 
 // What a backend learns about the camera it serves, besides its own parameters.

@@ -3,7 +3,8 @@
 // motion drives the avatar in a textured room with soft shadows, slow illumination drift and
 // sensor noise). The first `empty_frames` frames show the empty room, for learning the
 // background; frame empty_frames + k shows the motion at time k / fps. Frame n gets
-// capture_utime = start_utime + n * 1e6 / fps.
+// capture_utime = start_utime + n * 1e6 / fps. Triggered (expose()), the background frames are
+// still read first (learning), then each trigger shows the motion at time trigger_seq / fps.
 //
 // Parameters: motion (walk | run | jump | crouch | turn | wave | tpose | FILE.bvh; default walk),
 // fps (30), frames (motion frames; 0 = the clip's length, endless for built-in motions),
@@ -23,6 +24,8 @@ class SyntheticSource final : public FrameSource {
   GrabStatus grab(Frame& frame, int timeout_ms) override;
   void stop() override;
   std::string describe() const override;
+  bool triggerable() const override { return true; }
+  void expose(int64_t trigger_seq, int64_t capture_utime) override;
 
   // The exact silhouette of the last frame grab() returned (CV_8UC1, 255 = person): ground truth.
   const cv::Mat& truth() const;

@@ -39,6 +39,7 @@ class FrameMatcher {
   // counted as "no_frame" and dropped.
   void poll(int64_t now_us, std::vector<TaggedFrame>& out);
   const Counters& counters() const { return counters_; }
+  size_t pending_edges() const { return edges_.size(); }
 
  private:
   struct Frame {

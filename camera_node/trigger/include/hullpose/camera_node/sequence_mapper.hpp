@@ -60,6 +60,7 @@ class SequenceMapper {
   void poll(int64_t now_us, std::vector<MappedEdge>& out);
 
   bool synced() const { return have_offset_; }
+  size_t pending_edges() const { return pending_.size(); }
   int64_t offset_us() const { return offset_us_; }
   int64_t epoch() const { return epoch_; }
   const Counters& counters() const { return counters_; }

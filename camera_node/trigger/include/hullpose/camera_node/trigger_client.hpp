@@ -8,6 +8,9 @@
 //   TriggerClient client(bus, *edges, listener_config, clock);
 //   stamper = [&](const Frame& f) { auto t = client.tag(f.sequence, f.capture_utime, 20); ... };
 //
+// A simulated sensor (ListenerConfig::expose_after_edge_us >= 0) exposes at every edge by itself:
+// next_exposure() hands out its frames, tagged, one per edge, and the source then renders them.
+// A client serves one kind of camera: use tag() or next_exposure(), not both.
 // A free-running camera needs the frames after an edge to choose the nearest one, so it keeps a
 // few frames and uses TriggerListener directly.
 #include <lcm/lcm-cpp.hpp>
@@ -32,12 +35,21 @@ class TriggerClient {
   // node's realtime clock. Handles TRIGGER messages and edges until the frame's edge is mapped
   // or wait_ms passes; std::nullopt if it belongs to no trigger edge (counted).
   std::optional<TaggedFrame> tag(int64_t frame_id, int64_t frame_utime, int wait_ms);
+  // Simulated sensor: the next frame it exposed, tagged (frame_us on the node clock), oldest
+  // first; at most kSensorBuffers wait, older ones are dropped, counted "overrun". Handles
+  // TRIGGER messages and edges for up to wait_ms; std::nullopt if none is tagged by then.
+  static constexpr size_t kSensorBuffers = 4;
+  std::optional<TaggedFrame> next_exposure(int wait_ms);
 
   const TriggerListener& listener() const { return listener_; }
   const Counters& counters() const { return counters_; }
 
  private:
   void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  // Handles what is pending on the bus and the trigger input, then waits for either, until
+  // `done` (which sees the newly tagged frames) says so or wait_ms passes.
+  template <class Done>
+  bool pump(int wait_ms, Done&& done);
 
   lcm::LCM& bus_;
   EdgeSource& edges_;
@@ -47,6 +59,7 @@ class TriggerClient {
   lcm::Subscription* subscription_ = nullptr;
   hullpose_msg::trigger_t msg_;
   std::vector<TaggedFrame> tagged_;
+  size_t next_tagged_ = 0;  // next_exposure(): tagged_[next_tagged_..] wait to be handed out
   Counters counters_;
 };
 

@@ -15,6 +15,9 @@ namespace hullpose::trigger {
 
 struct ListenerConfig {
   std::string rig_id;
+  // >= 0: a simulated sensor that exposes one frame at every edge, this long after it (the
+  // listener feeds those frames to the matcher itself); < 0: frames come through on_frame().
+  int64_t expose_after_edge_us = -1;
   MapperConfig mapper;
   FrameMatcherConfig matcher;
 };
@@ -28,6 +31,8 @@ class TriggerListener {
   // Drains the edge source, maps edges, appends the frames that are now tagged.
   void poll(int64_t now_us, std::vector<TaggedFrame>& out);
 
+  // No edge waiting for its announcement or its frame: nothing to do until the next edge.
+  bool idle() const { return mapper_.pending_edges() == 0 && matcher_.pending_edges() == 0; }
   const SequenceMapper& mapper() const { return mapper_; }
   const FrameMatcher& matcher() const { return matcher_; }
   int64_t foreign_announcements() const { return foreign_; }
@@ -39,6 +44,7 @@ class TriggerListener {
   FrameMatcher matcher_;
   std::vector<MappedEdge> mapped_;
   int64_t foreign_ = 0;
+  int64_t exposed_ = 0;  // frame ids of the simulated sensor
 };
 
 }  // namespace hullpose::trigger

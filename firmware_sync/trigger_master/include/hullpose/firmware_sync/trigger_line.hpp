@@ -16,7 +16,9 @@ namespace hullpose::sync {
 class TriggerLine {
  public:
   virtual ~TriggerLine() = default;
-  virtual void set(bool high) = 0;
+  // Drives the line. Returns the CLOCK_MONOTONIC time (us) the line stamped the edge with (the
+  // simulated wire sends that stamp to the nodes), or -1 when it has no stamp of its own.
+  virtual int64_t set(bool high) = 0;
   virtual std::string describe() const = 0;
   // The simulated wire only: waits until `nodes` camera nodes are connected, so that a rig
   // started on one machine loses no pulse. A physical line has no listeners to count.
@@ -31,7 +33,10 @@ std::unique_ptr<TriggerLine> open_trigger_line(const std::string& spec);
 
 class SimTriggerLine final : public TriggerLine {
  public:
-  void set(bool high) override { levels_.push_back(high); }
+  int64_t set(bool high) override {
+    levels_.push_back(high);
+    return -1;
+  }
   std::string describe() const override { return "sim"; }
   const std::vector<bool>& levels() const { return levels_; }
 

@@ -1,0 +1,41 @@
+#pragma once
+// The camera node's trigger stage (config trigger:): the trigger input (the GPIO line through
+// libgpiod, or a simulated rig's wire) and the master's TRIGGER announcements in, each frame's
+// trigger instant out, through camera_node/trigger's TriggerClient (sequence mapping robust to a
+// late start, missed edges, lost announcements and clock offsets).
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <string>
+
+#include "hullpose/camera_node/camera_node.hpp"
+#include "hullpose/camera_node/trigger_client.hpp"
+
+namespace hullpose::camera_node {
+
+class TriggerStage final : public FrameTrigger {
+ public:
+  // Opens nothing. `simulated_sensor`: the source exposes one frame per edge (next_instant()),
+  // else the camera exposes by itself and frames are stamped (stamp()).
+  TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,
+               bool simulated_sensor);
+  ~TriggerStage() override;
+
+  void start() override;
+  std::optional<TriggerStamp> stamp(const Frame& frame) override;
+  std::optional<TriggerStamp> next_instant(int timeout_ms) override;
+  void report(std::vector<std::pair<std::string, int64_t>>& out) const override;
+
+ private:
+  TriggerStamp to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) const;
+
+  TriggerConfig config_;
+  std::string url_;
+  int camera_id_;
+  trigger::ListenerConfig listener_config_;
+  trigger::NodeClock clock_;
+  std::unique_ptr<lcm::LCM> bus_;
+  std::unique_ptr<trigger::EdgeSource> edges_;
+  std::unique_ptr<trigger::TriggerClient> client_;
+};
+
+}  // namespace hullpose::camera_node
