@@ -108,8 +108,10 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<PlannedView> plan;
   char name[64];
-  // Close-ups: the board held 1.4-2.2 m in front of one camera, centred on a 3x3 grid of image
-  // positions, tilted 20-40 degrees so the views are not parallel.
+  // Close-ups: the board held 1.8-2.8 m in front of one camera (small enough in the image to
+  // reach its corners), centred on a 3x3 grid of image positions, tilted 40-60 degrees every way
+  // in turn: strong tilts pin the principal point and the focal length (a nearly fronto-parallel
+  // board trades focal length against distance, and the principal point against rotation).
   for (const auto& c : rig.cameras) {
     const Eigen::Isometry3d world_from_cam = cam_pose(c).inverse();
     for (int v = 0; v < close_ups; ++v) {
@@ -119,9 +121,9 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
         const Eigen::Vector2d target(c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * u(rng)),
                                      c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * u(rng)));
         const Eigen::Vector2d xn = c.undistort_pixel(target);
-        const double dist = 1300 + 700 * (0.5 + 0.5 * u(rng));
+        const double dist = 1800 + 1000 * (0.5 + 0.5 * u(rng));
         const Eigen::Vector3d centre_cam = dist * Eigen::Vector3d(xn.x(), xn.y(), 1).normalized();
-        const double tilt = (30 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
+        const double tilt = (40 + 20 * (0.5 + 0.5 * u(rng))) * kDeg;
         const double axis_angle = M_PI / 4 * (v % 4) + 0.2 * u(rng);  // tilt every way in turn
         const Eigen::Vector3d axis(std::cos(axis_angle), std::sin(axis_angle), 0);
         Eigen::Isometry3d cam_from_board = Eigen::Isometry3d::Identity();
@@ -136,15 +138,16 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
       }
     }
   }
-  // Boards in the middle of the volume, faces turned to every side and upwards, so that each
-  // is seen by a few ring cameras and often by the ceiling camera.
+  // Boards spread over the volume (+-1.2 m, 0.6-1.6 m high), faces turned to every side and
+  // upwards, so that each is seen by a few ring cameras and often by the ceiling camera; boards at
+  // different distances from a camera separate its focal length from its distance.
   for (int v = 0; v < shared; ++v) {
     const double az = 2 * M_PI * v / shared + 10 * kDeg * u(rng);
     const double el = (25 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
     const Eigen::Vector3d facing(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el));
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = facing_rotation(facing, 0.5 * u(rng));
-    const Eigen::Vector3d centre(500 * u(rng), 500 * u(rng), 1100 + 400 * u(rng));
+    const Eigen::Vector3d centre(1200 * u(rng), 1200 * u(rng), 1100 + 500 * u(rng));
     pose.translation() = centre - pose.linear() * board.centre_mm();
     std::snprintf(name, sizeof name, "b_shared%02d", v);
     plan.push_back({name, pose});
@@ -199,7 +202,11 @@ cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_
   const Eigen::Isometry3d cam_from_board = cam_pose(c) * world_from_board;
   const Eigen::Vector3d centre_cam = cam_from_board * board_.centre_mm();
   const Eigen::Vector3d z_cam = cam_from_board.linear().col(2);
-  if (centre_cam.z() <= 0 || z_cam.dot(centre_cam) <= 0) return {};  // behind, or seen from the back
+  // A board seen from behind, more obliquely than 70 degrees (the detector misses those) or
+  // partly outside the image carries nothing the calibration could use and detecting it only
+  // costs test time: such a camera delivers no image.
+  if (centre_cam.z() <= 0 || z_cam.dot(centre_cam.normalized()) < std::cos(70 * kDeg)) return {};
+  if (!board_inside(c, board_, world_from_board, 2)) return {};
 
   // Plane homography: normalised image point ~ M * (X, Y, 1) for board point (X, Y, 0) in mm.
   Eigen::Matrix3d M;

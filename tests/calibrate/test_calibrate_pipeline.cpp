@@ -22,11 +22,11 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const BoardSpec kBoard{9, 6, 120};
+const BoardSpec kBoard{13, 8, 80};
 
 struct CornerCapture {
   Rig truth = make_ring_rig(3);
-  std::vector<PlannedView> plan = make_capture_plan(truth, kBoard, 16, 32, 5);
+  std::vector<PlannedView> plan = make_capture_plan(truth, kBoard, 9, 16, 5);
 
   // Feeds every planned view's projected corners (noise 0.2 px per axis, 0.28 px RMS) to a calibrator;
   // `keep(view, camera)` can drop observations to build a bad capture.
@@ -168,7 +168,7 @@ TEST_CASE("bad captures get clear messages, not a rig") {
   SECTION("no board in any image of a camera") {
     RigCalibrator calibrator(default_options());
     corners().feed(calibrator, [](const std::string&, int cam) { return cam != 5; });
-    CHECK_THAT(solve_error(calibrator), Contains("camera 5: no checkerboard (9x6 inner corners) found in any"));
+    CHECK_THAT(solve_error(calibrator), Contains("camera 5: no checkerboard (13x8 inner corners) found in any"));
   }
   SECTION("too few views") {
     RigCalibrator calibrator(default_options());

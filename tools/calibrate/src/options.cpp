@@ -31,8 +31,15 @@ int to_int(const std::string& flag, const std::string& value) {
 }  // namespace
 
 std::string usage() {
-  return "usage: hullpose-calibrate --images DIR --board COLSxROWS --square-mm S --out RIG.yaml [options]\n"
+  return "usage: hullpose-calibrate (--images DIR | --node-config FILE...) --board COLSxROWS --square-mm S\n"
+         "                          --out RIG.yaml [options]\n"
          "  DIR holds cam<ID>/<instant>.png; images with the same <instant> name were taken together.\n"
+         "  --node-config FILE       live: a camera node's config (its camera id and frame source:\n"
+         "                           libcamera, v4l2, file, synthetic); repeat once per camera. Instants\n"
+         "                           are named live00000, live00001, ... (--floor-view live00042)\n"
+         "  --frames N               live: stop after N instants (default: when a source ends)\n"
+         "  --stride N               live: one instant every N frames (default 1)\n"
+         "  --timeout-ms T           live: a camera silent this long is an error (default 2000)\n"
          "  --board COLSxROWS        inner corners, one side even and one odd (e.g. 9x6)\n"
          "  --square-mm S            square size in mm\n"
          "  --floor-view NAME        instant with the board lying on the floor (default: floor)\n"
@@ -61,6 +68,14 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       return cli;
     } else if (flag == "--images") {
       cli.images = value();
+    } else if (flag == "--node-config") {
+      cli.node_configs.emplace_back(value());
+    } else if (flag == "--frames") {
+      cli.live.max_instants = to_int(flag, value());
+    } else if (flag == "--stride") {
+      cli.live.stride = to_int(flag, value());
+    } else if (flag == "--timeout-ms") {
+      cli.live.timeout_ms = to_int(flag, value());
     } else if (flag == "--out") {
       cli.out = value();
     } else if (flag == "--report") {
@@ -97,7 +112,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       HULLPOSE_THROW("unknown argument '" << flag << "' (see --help)");
     }
   }
-  HULLPOSE_THROW_UNLESS(!cli.images.empty(), "--images DIR is required (see --help)");
+  HULLPOSE_THROW_UNLESS(cli.images.empty() != cli.node_configs.empty(),
+                        "give either --images DIR or --node-config FILE (one per camera), not both (see --help)");
   HULLPOSE_THROW_UNLESS(!cli.out.empty(), "--out RIG.yaml is required (see --help)");
   HULLPOSE_THROW_UNLESS(have_board && have_square, "--board and --square-mm are required (see --help)");
   cli.options.board.validate();
