@@ -167,10 +167,12 @@ TEST_CASE("hullpose-calibrate refuses a capture in which one camera never shares
 
 TEST_CASE("live calibration from camera-node frame sources, with feedback as views arrive") {
   const RenderedCapture& c = capture();
+  // Two of the cameras (the ceiling camera links to every other): half the detection work.
+  const std::vector<int> ids{0, 7};
   std::vector<LiveCamera> cameras;
-  for (const auto& cam : c.truth.cameras)
+  for (int id : ids)
     cameras.push_back(live_camera_from_node_config(
-        c.node_config(cam.id, "  type: file\n  path: live/cam" + std::to_string(cam.id) + "/live_%03d.png\n")));
+        c.node_config(id, "  type: file\n  path: live/cam" + std::to_string(id) + "/live_%03d.png\n")));
   LiveOptions live;
   LiveViewProvider provider(std::move(cameras), live);
   CHECK_THAT(provider.describe(), Contains("[0: file "));
@@ -184,13 +186,14 @@ TEST_CASE("live calibration from camera-node frame sources, with feedback as vie
   calibrator.add_all(provider);
   const std::string text = feedback.str();
   CHECK_THAT(text, Contains("cam0 live00000: board found; 1 views, coverage"));
-  CHECK_THAT(text, Contains("cam2 live00000: no board; 0 views, coverage 0%"));
+  CHECK_THAT(text, Contains("cam7 live00000: no board; 0 views, coverage 0%"));
   CHECK_THAT(text, Contains(" px; 8 views"));  // the per-view error once the first estimate exists
   const CalibrationResult result = calibrator.solve();
-  REQUIRE(result.rig.cameras.size() == c.truth.cameras.size());
-  for (size_t i = 0; i < c.truth.cameras.size(); ++i) {
-    INFO("camera " << c.truth.cameras[i].id);
-    CHECK((result.rig.cameras[i].centre() - c.truth.cameras[i].centre()).norm() < 100.0);
+  REQUIRE(result.rig.cameras.size() == ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    INFO("camera " << ids[i]);
+    CHECK(result.rig.cameras[i].id == ids[i]);
+    CHECK((result.rig.cameras[i].centre() - c.truth.find(ids[i])->centre()).norm() < 100.0);
     CHECK(result.cameras[i].views_kept >= 8);
   }
   CHECK(result.rms_px < 0.4);

@@ -102,7 +102,7 @@ ViewFeedback IntrinsicsCalibrator::add_view(const std::string& view, cv::Size im
     views_.push_back({view, std::move(corners)});
     // Re-estimate once there are enough views and whenever their number grew by half: the
     // feedback stays cheap while the estimate follows the capture.
-    if (views_.size() >= static_cast<size_t>(options_.min_views) &&
+    if (options_.live_estimates && views_.size() >= static_cast<size_t>(options_.min_views) &&
         (!live_ || views_.size() * 2 >= live_views_ * 3)) {
       std::vector<const BoardView*> all;
       for (const auto& v : views_) all.push_back(&v);
@@ -152,7 +152,7 @@ IntrinsicsCalibrator::Estimate IntrinsicsCalibrator::run_opencv(
   try {
     rms = cv::calibrateCamera(objects, images, image_size_, e.K, e.dist, rvecs, tvecs, std_intrinsics,
                               std_extrinsics, errors, flags,
-                              cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+                              cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-9));
   } catch (const cv::Exception& ex) {
     HULLPOSE_THROW("camera " << camera_id_ << ": intrinsic calibration failed on " << views.size()
                              << " views: " << ex.err);

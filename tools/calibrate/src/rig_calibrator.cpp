@@ -30,6 +30,7 @@ std::string camera_list(const std::vector<int>& ids) {
 
 RigCalibrator::RigCalibrator(CalibrationOptions options, std::ostream* feedback)
     : options_(std::move(options)), feedback_(feedback) {
+  options_.intrinsics.live_estimates = feedback_ != nullptr;
   options_.board.validate();
   HULLPOSE_THROW_UNLESS(!options_.floor_view.empty(), "the floor view name must not be empty");
 }

@@ -22,6 +22,9 @@ struct IntrinsicsOptions {
   double outlier_floor_px = 1.0;  // ... and this absolute floor
   double min_tilt_spread_deg = 10;  // views must differ this much in board orientation
   bool estimate_k3 = true;
+  // Re-estimate as views arrive, for the per-view error in the feedback (costs a calibration
+  // each time the views grow by half; off when nobody reads the feedback).
+  bool live_estimates = true;
 };
 
 // What the user sees after each view (printed as views are captured).
