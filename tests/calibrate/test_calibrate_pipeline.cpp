@@ -1,5 +1,5 @@
 // The calibration pipeline at the corner level (projected corners with Gaussian noise instead of
-// rendered images, so a large capture stays affordable): bundle adjustment, recovery of a known
+// rendered images, so each calibration costs seconds): bundle adjustment, recovery of a known
 // rig to issue 9's tolerances, live feedback, and the clear errors for bad captures. Several
 // full calibrations: too slow for the sanitizer pass, hence "integration".
 #include <Eigen/Geometry>
