@@ -57,8 +57,8 @@ class BoardRenderer {
 // no image.
 class SyntheticViewProvider final : public ViewProvider {
  public:
-  SyntheticViewProvider(const Rig& rig, const BoardRenderer& renderer, std::vector<PlannedView> plan,
-                        unsigned seed);
+  SyntheticViewProvider(const Rig& rig, const BoardRenderer& renderer,
+                        std::vector<PlannedView> plan, unsigned seed);
   bool next(CaptureInstant& out) override;
   std::string describe() const override { return "synthetic capture"; }
 

@@ -74,8 +74,8 @@ struct RenderedCapture {
   fs::path node_config(int id, const std::string& source) const {
     const fs::path file = dir / ("node" + std::to_string(id) + ".yaml");
     std::ofstream out(file);
-    out << "%YAML:1.0\n---\ncamera_id: " << id << "\nrig_file: nominal_rig.yaml\nsource:\n" << source
-        << "bgs:\n  method: mog2\n";
+    out << "%YAML:1.0\n---\ncamera_id: " << id << "\nrig_file: nominal_rig.yaml\nsource:\n"
+        << source << "bgs:\n  method: mog2\n";
     return file;
   }
 };
@@ -92,7 +92,8 @@ struct Process {
 
 Process run_calibrate(const std::string& args) {
   const fs::path log = capture().dir / "calibrate.log";
-  const std::string command = std::string(HULLPOSE_CALIBRATE_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const std::string command =
+      std::string(HULLPOSE_CALIBRATE_EXE) + " " + args + " > " + log.string() + " 2>&1";
   Process p;
   const int raw = std::system(command.c_str());
   p.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -113,8 +114,9 @@ TEST_CASE("hullpose-calibrate turns a folder of images into a rig file and a rep
   const RenderedCapture& c = capture();
   const fs::path rig_file = c.dir / "calibrated.yaml";
   const fs::path report = c.dir / "report.txt";
-  const Process p = run_calibrate("--images " + (c.dir / "images").string() + " --board 13x8 --square-mm 80 --out " +
-                                  rig_file.string() + " --report " + report.string() + " --rig-id lab");
+  const Process p = run_calibrate("--images " + (c.dir / "images").string() +
+                                  " --board 13x8 --square-mm 80 --out " + rig_file.string() +
+                                  " --report " + report.string() + " --rig-id lab");
   INFO(p.output);
   REQUIRE(p.status == 0);
   CHECK_THAT(p.output, Contains("cam0 a00_close00: board found; 1 views, coverage"));
@@ -142,7 +144,9 @@ TEST_CASE("hullpose-calibrate turns a folder of images into a rig file and a rep
   CHECK_THAT(text.str(), Contains("capture volume"));
 }
 
-TEST_CASE("hullpose-calibrate refuses a capture in which one camera never shares a board view, naming it") {
+TEST_CASE(
+    "hullpose-calibrate refuses a capture in which one camera never shares a board view, naming "
+    "it") {
   const RenderedCapture& c = capture();
   // Camera 4 keeps only its own close-ups; nobody else keeps those.
   const fs::path bad = c.dir / "bad";
@@ -171,15 +175,16 @@ TEST_CASE("live calibration from camera-node frame sources, with feedback as vie
   const std::vector<int> ids{0, 7};
   std::vector<LiveCamera> cameras;
   for (int id : ids)
-    cameras.push_back(live_camera_from_node_config(
-        c.node_config(id, "  type: file\n  path: live/cam" + std::to_string(id) + "/live_%03d.png\n")));
+    cameras.push_back(live_camera_from_node_config(c.node_config(
+        id, "  type: file\n  path: live/cam" + std::to_string(id) + "/live_%03d.png\n")));
   LiveOptions live;
   LiveViewProvider provider(std::move(cameras), live);
   CHECK_THAT(provider.describe(), Contains("[0: file "));
   CalibrationOptions options;
   options.board = kBoard;
   char floor[32];
-  std::snprintf(floor, sizeof floor, "live%05zu", c.plan.size() - 1);  // the plan ends with the floor
+  std::snprintf(floor, sizeof floor, "live%05zu",
+                c.plan.size() - 1);  // the plan ends with the floor
   options.floor_view = floor;
   std::ostringstream feedback;
   RigCalibrator calibrator(options, &feedback);
@@ -205,22 +210,26 @@ TEST_CASE("live calibration from a camera whose device is absent fails naming ca
     std::vector<LiveCamera> cameras{live_camera_from_node_config(
         c.node_config(2, "  type: v4l2\n  device: /dev/video-hullpose-absent\n"))};
     CHECK_THROWS_WITH(LiveViewProvider(std::move(cameras), LiveOptions{}),
-                      Contains("camera 2: cannot start its v4l2 source") && Contains("/dev/video-hullpose-absent"));
+                      Contains("camera 2: cannot start its v4l2 source") &&
+                          Contains("/dev/video-hullpose-absent"));
   }
   SECTION("libcamera") {
-    std::vector<LiveCamera> cameras{
-        live_camera_from_node_config(c.node_config(4, "  type: libcamera\n  camera: hullpose-absent\n"))};
+    std::vector<LiveCamera> cameras{live_camera_from_node_config(
+        c.node_config(4, "  type: libcamera\n  camera: hullpose-absent\n"))};
     CHECK_THROWS_WITH(LiveViewProvider(std::move(cameras), LiveOptions{}),
                       Contains("camera 4: cannot start its libcamera source"));
   }
   SECTION("through the command line") {
-    const Process p = run_calibrate("--node-config " + c.node_config(0, "  type: v4l2\n  device: /dev/video-hullpose-absent\n").string() +
-                                    " --board 13x8 --square-mm 80 --out " + (c.dir / "never.yaml").string());
+    const Process p = run_calibrate(
+        "--node-config " +
+        c.node_config(0, "  type: v4l2\n  device: /dev/video-hullpose-absent\n").string() +
+        " --board 13x8 --square-mm 80 --out " + (c.dir / "never.yaml").string());
     CHECK(p.status == 2);
     CHECK_THAT(p.output, Contains("camera 0: cannot start its v4l2 source"));
   }
   SECTION("a camera missing from the node's rig file") {
-    CHECK_THROWS_WITH(live_camera_from_node_config(c.node_config(9, "  type: file\n  path: x_%03d.png\n")),
-                      Contains("camera 9 is not in rig file"));
+    CHECK_THROWS_WITH(
+        live_camera_from_node_config(c.node_config(9, "  type: file\n  path: x_%03d.png\n")),
+        Contains("camera 9 is not in rig file"));
   }
 }

@@ -49,12 +49,15 @@ struct Capture {
     CaptureInstant instant;
     while (provider.next(instant)) {
       std::vector<std::vector<cv::Point2f>> corners(instant.images.size());
-      cv::parallel_for_(cv::Range(0, static_cast<int>(instant.images.size())), [&](const cv::Range& r) {
-        for (int i = r.start; i < r.end; ++i)
-          corners[static_cast<size_t>(i)] = detect_board(instant.images[static_cast<size_t>(i)].image, board);
-      });
+      cv::parallel_for_(cv::Range(0, static_cast<int>(instant.images.size())),
+                        [&](const cv::Range& r) {
+                          for (int i = r.start; i < r.end; ++i)
+                            corners[static_cast<size_t>(i)] =
+                                detect_board(instant.images[static_cast<size_t>(i)].image, board);
+                        });
       for (size_t i = 0; i < instant.images.size(); ++i)
-        detections.push_back({instant.name, instant.images[i].camera_id, instant.images[i].image.size(), corners[i]});
+        detections.push_back({instant.name, instant.images[i].camera_id,
+                              instant.images[i].image.size(), corners[i]});
     }
     CalibrationOptions o;
     o.board = board;
@@ -112,9 +115,9 @@ TEST_CASE("detected corners lie at the rendered corners, in board order, with th
     n += static_cast<size_t>(c.board.corner_count());
   }
   const double rms = std::sqrt(sum2 / static_cast<double>(n));
-  std::cout << "synthetic capture: " << c.detections.size() << " images, board found in " << found << " ("
-            << gross << " with misplaced corners), corner error " << rms << " px RMS (injected "
-            << kCornerNoisePx << ")\n";
+  std::cout << "synthetic capture: " << c.detections.size() << " images, board found in " << found
+            << " (" << gross << " with misplaced corners), corner error " << rms
+            << " px RMS (injected " << kCornerNoisePx << ")\n";
   CHECK(found >= 100);
   CHECK(gross * 50 <= found);  // at most 2 %
   CHECK(rms > 0.8 * kCornerNoisePx);
@@ -141,9 +144,10 @@ TEST_CASE("the known rig is recovered from rendered checkerboard images") {
     CHECK(std::abs(e.cy - t.cy) < 2.0);
     CHECK((e.centre() - t.centre()).norm() < 5.0);
     CHECK(angle_deg(e.R, t.R) < 0.2);
-    std::cout << std::fixed << std::setprecision(3) << "cam" << t.id << ": fx " << 100 * (e.fx / t.fx - 1)
-              << " %, fy " << 100 * (e.fy / t.fy - 1) << " %, cx " << e.cx - t.cx << " px, cy " << e.cy - t.cy
-              << " px, centre " << (e.centre() - t.centre()).norm() << " mm, rotation " << angle_deg(e.R, t.R)
+    std::cout << std::fixed << std::setprecision(3) << "cam" << t.id << ": fx "
+              << 100 * (e.fx / t.fx - 1) << " %, fy " << 100 * (e.fy / t.fy - 1) << " %, cx "
+              << e.cx - t.cx << " px, cy " << e.cy - t.cy << " px, centre "
+              << (e.centre() - t.centre()).norm() << " mm, rotation " << angle_deg(e.R, t.R)
               << " deg, rms " << result.cameras[i].rig_rms_px << " px\n";
   }
   // RMS at the noise level.
@@ -160,17 +164,15 @@ struct Capsule {
 };
 std::vector<Capsule> body() {
   using V = Eigen::Vector3d;
-  return {{V(0, 0, 950), V(0, 0, 1400), 150},         // torso
-          {V(0, 0, 1600), V(0, 10, 1650), 105},       // head
-          {V(-100, 0, 920), V(100, 0, 920), 120},     // pelvis
-          {V(-210, 0, 1400), V(-330, 60, 1150), 50},  // arms
-          {V(-330, 60, 1150), V(-380, 180, 950), 45},
-          {V(210, 0, 1400), V(300, -40, 1140), 50},
-          {V(300, -40, 1140), V(330, -60, 900), 45},
-          {V(-100, 0, 880), V(-130, 40, 480), 75},    // legs
-          {V(-130, 40, 480), V(-130, 0, 80), 60},
-          {V(100, 0, 880), V(150, -30, 480), 75},
-          {V(150, -30, 480), V(170, -60, 80), 60}};
+  return {
+      {V(0, 0, 950), V(0, 0, 1400), 150},         // torso
+      {V(0, 0, 1600), V(0, 10, 1650), 105},       // head
+      {V(-100, 0, 920), V(100, 0, 920), 120},     // pelvis
+      {V(-210, 0, 1400), V(-330, 60, 1150), 50},  // arms
+      {V(-330, 60, 1150), V(-380, 180, 950), 45}, {V(210, 0, 1400), V(300, -40, 1140), 50},
+      {V(300, -40, 1140), V(330, -60, 900), 45},  {V(-100, 0, 880), V(-130, 40, 480), 75},  // legs
+      {V(-130, 40, 480), V(-130, 0, 80), 60},     {V(100, 0, 880), V(150, -30, 480), 75},
+      {V(150, -30, 480), V(170, -60, 80), 60}};
 }
 
 // Closest approach between the ray o + s d (s >= 0, |d| = 1) and the segment a..b.
@@ -205,7 +207,8 @@ cv::Mat render_mask(const CameraModel& cam, const std::vector<Capsule>& shape) {
 
 // Brute-force visual hull: a voxel stays if every camera sees its centre inside the image and
 // on the silhouette (the fusion carver's rule, written out plainly for this test).
-std::vector<uint8_t> carve(const Rig& rig, const std::vector<cv::Mat>& masks, const VoxelGridSpec& grid) {
+std::vector<uint8_t> carve(const Rig& rig, const std::vector<cv::Mat>& masks,
+                           const VoxelGridSpec& grid) {
   std::vector<uint8_t> occupied(grid.size(), 0);
   cv::parallel_for_(cv::Range(0, grid.dims.z()), [&](const cv::Range& zs) {
     for (int z = zs.start; z < zs.end; ++z)
@@ -219,8 +222,10 @@ std::vector<uint8_t> carve(const Rig& rig, const std::vector<cv::Mat>& masks, co
               keep = false;
               break;
             }
-            const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
-            keep = u >= 0 && v >= 0 && u < masks[c].cols && v < masks[c].rows && masks[c].at<uint8_t>(v, u);
+            const int u = static_cast<int>(std::lround(px->x())),
+                      v = static_cast<int>(std::lround(px->y()));
+            keep = u >= 0 && v >= 0 && u < masks[c].cols && v < masks[c].rows &&
+                   masks[c].at<uint8_t>(v, u);
           }
           occupied[grid.index(x, y, z)] = keep;
         }
@@ -247,8 +252,9 @@ TEST_CASE("the calibrated rig carves the true rig's hull at >= 98 % IoU at 128^3
     truth_count += truth_hull[i];
   }
   const double iou = static_cast<double>(inter) / static_cast<double>(uni);
-  std::cout << "hull: " << truth_count << " voxels of " << grid.voxel_mm << " mm with the true rig, "
-            << uni - inter << " differ with the calibrated rig, IoU " << std::setprecision(5) << iou << "\n";
+  std::cout << "hull: " << truth_count << " voxels of " << grid.voxel_mm
+            << " mm with the true rig, " << uni - inter << " differ with the calibrated rig, IoU "
+            << std::setprecision(5) << iou << "\n";
   CHECK(truth_count > 5000);
   CHECK(iou >= 0.98);
 }

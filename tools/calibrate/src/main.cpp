@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
       views = std::make_unique<FolderViewProvider>(cli.images);
     } else {
       std::vector<LiveCamera> cameras;
-      for (const auto& file : cli.node_configs) cameras.push_back(live_camera_from_node_config(file));
+      for (const auto& file : cli.node_configs)
+        cameras.push_back(live_camera_from_node_config(file));
       views = std::make_unique<LiveViewProvider>(std::move(cameras), cli.live);
     }
     std::cout << "calibrating from " << views->describe() << "\n";

@@ -16,7 +16,8 @@ double to_double(const std::string& flag, const std::string& value) {
   } catch (const std::exception&) {
     used = 0;
   }
-  HULLPOSE_THROW_UNLESS(used == value.size() && !value.empty(), flag << ": '" << value << "' is not a number");
+  HULLPOSE_THROW_UNLESS(used == value.size() && !value.empty(),
+                        flag << ": '" << value << "' is not a number");
   return v;
 }
 
@@ -31,11 +32,15 @@ int to_int(const std::string& flag, const std::string& value) {
 }  // namespace
 
 std::string usage() {
-  return "usage: hullpose-calibrate (--images DIR | --node-config FILE...) --board COLSxROWS --square-mm S\n"
+  return "usage: hullpose-calibrate (--images DIR | --node-config FILE...) --board COLSxROWS "
+         "--square-mm S\n"
          "                          --out RIG.yaml [options]\n"
-         "  DIR holds cam<ID>/<instant>.png; images with the same <instant> name were taken together.\n"
-         "  --node-config FILE       live: a camera node's config (its camera id and frame source:\n"
-         "                           libcamera, v4l2, file, synthetic); repeat once per camera. Instants\n"
+         "  DIR holds cam<ID>/<instant>.png; images with the same <instant> name were taken "
+         "together.\n"
+         "  --node-config FILE       live: a camera node's config (its camera id and frame "
+         "source:\n"
+         "                           libcamera, v4l2, file, synthetic); repeat once per camera. "
+         "Instants\n"
          "                           are named live00000, live00001, ... (--floor-view live00042)\n"
          "  --frames N               live: stop after N instants (default: when a source ends)\n"
          "  --stride N               live: one instant every N frames (default 1)\n"
@@ -49,7 +54,8 @@ std::string usage() {
          "  --fix-intrinsics         keep the per-camera intrinsics in the bundle adjustment\n"
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
-         "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default 2)\n"
+         "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default "
+         "2)\n"
          "  --report FILE            also write the report to FILE\n"
          "  --quiet                  no per-image feedback\n";
 }
@@ -83,7 +89,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else if (flag == "--board") {
       const std::string v = value();
       const auto x = v.find('x');
-      HULLPOSE_THROW_UNLESS(x != std::string::npos, "--board: '" << v << "' must be COLSxROWS, e.g. 9x6");
+      HULLPOSE_THROW_UNLESS(x != std::string::npos,
+                            "--board: '" << v << "' must be COLSxROWS, e.g. 9x6");
       cli.options.board.cols = to_int("--board", v.substr(0, x));
       cli.options.board.rows = to_int("--board", v.substr(x + 1));
       have_board = true;
@@ -112,10 +119,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       HULLPOSE_THROW("unknown argument '" << flag << "' (see --help)");
     }
   }
-  HULLPOSE_THROW_UNLESS(cli.images.empty() != cli.node_configs.empty(),
-                        "give either --images DIR or --node-config FILE (one per camera), not both (see --help)");
+  HULLPOSE_THROW_UNLESS(
+      cli.images.empty() != cli.node_configs.empty(),
+      "give either --images DIR or --node-config FILE (one per camera), not both (see --help)");
   HULLPOSE_THROW_UNLESS(!cli.out.empty(), "--out RIG.yaml is required (see --help)");
-  HULLPOSE_THROW_UNLESS(have_board && have_square, "--board and --square-mm are required (see --help)");
+  HULLPOSE_THROW_UNLESS(have_board && have_square,
+                        "--board and --square-mm are required (see --help)");
   cli.options.board.validate();
   return cli;
 }

@@ -28,17 +28,18 @@ struct LiveCamera {
 LiveCamera live_camera_from_node_config(const std::filesystem::path& node_config);
 
 struct LiveOptions {
-  int max_instants = 0;    // 0: until a source ends
-  int stride = 1;          // frames per instant: the others are skipped (moving the board takes time)
-  int timeout_ms = 2000;   // a camera that delivers no frame this long is an error, naming it
+  int max_instants = 0;  // 0: until a source ends
+  int stride = 1;        // frames per instant: the others are skipped (moving the board takes time)
+  int timeout_ms = 2000;  // a camera that delivers no frame this long is an error, naming it
 };
 
 class LiveViewProvider final : public ViewProvider {
  public:
   // Creates and starts every camera's source. Throws hullpose::Error naming the camera (and,
   // from the backend, the device and what was tried) when one is absent or misconfigured.
-  LiveViewProvider(std::vector<LiveCamera> cameras, LiveOptions options,
-                   const camera_node::SourceRegistry& registry = camera_node::SourceRegistry::builtin());
+  LiveViewProvider(
+      std::vector<LiveCamera> cameras, LiveOptions options,
+      const camera_node::SourceRegistry& registry = camera_node::SourceRegistry::builtin());
   ~LiveViewProvider() override;  // stops the sources
   LiveViewProvider(const LiveViewProvider&) = delete;
   LiveViewProvider& operator=(const LiveViewProvider&) = delete;

@@ -2,7 +2,6 @@
 // hullpose-calibrate's command line.
 #include <filesystem>
 #include <string>
-
 #include <vector>
 
 #include "hullpose/calibrate/live_provider.hpp"
@@ -12,7 +11,8 @@ namespace hullpose::calibrate {
 
 struct CommandLine {
   std::filesystem::path images;  // DIR with cam<ID>/<instant>.png ...
-  std::vector<std::filesystem::path> node_configs;  // ... or live: one camera node config per camera
+  std::vector<std::filesystem::path>
+      node_configs;  // ... or live: one camera node config per camera
   LiveOptions live;
   std::filesystem::path out;     // rig file to write
   std::filesystem::path report;  // optional copy of the report
