@@ -136,7 +136,7 @@ TEST_CASE("a known rig is recovered from noisy corners, with the report filled i
   CHECK((r.rig.volume.max_mm.head<2>().array() > 800).all());
 }
 
-TEST_CASE("a view with wrong corners is rejected as an outlier") {
+TEST_CASE("views with wrong corners, or one misplaced corner, are rejected as outliers") {
   RigCalibrator calibrator(default_options());
   std::mt19937 rng(2);
   const auto& cap = corners();
@@ -146,12 +146,16 @@ TEST_CASE("a view with wrong corners is rejected as an outlier") {
       if (c.id == 2 && v.name == "a02_close04")
         for (size_t k = 0; k < pts.size(); k += 5)
           pts[k] += cv::Point2f(6, -4);  // a few corners far off
+      if (c.id == 5 && v.name == "a05_close03" && !pts.empty())
+        pts[20] += cv::Point2f(2.5f, -2.0f);  // one corner misplaced: the view's RMS barely moves
       calibrator.add_detection(v.name, c.id, {c.width, c.height}, std::move(pts));
     }
   const CalibrationResult r = calibrator.solve();
   REQUIRE(r.cameras[2].boards_found > 8);
   REQUIRE(r.cameras[2].rejected_views.size() == 1);
   CHECK(r.cameras[2].rejected_views[0] == "a02_close04");
+  REQUIRE(r.cameras[5].rejected_views.size() == 1);
+  CHECK(r.cameras[5].rejected_views[0] == "a05_close03");
   CHECK(r.rms_px < 0.35);
 }
 
