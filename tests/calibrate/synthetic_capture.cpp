@@ -39,7 +39,8 @@ Eigen::Isometry3d cam_pose(const CameraModel& c) {
 // A board rotation whose printed face looks along `facing` (unit), turned by `spin` in its plane.
 Eigen::Matrix3d facing_rotation(const Eigen::Vector3d& facing, double spin) {
   const Eigen::Vector3d z = -facing;  // board z points away from the viewers of the face
-  Eigen::Vector3d helper = std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  Eigen::Vector3d helper =
+      std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
   const Eigen::Vector3d x0 = helper.cross(z).normalized();
   const Eigen::Vector3d y0 = z.cross(x0);
   Eigen::Matrix3d R;
@@ -49,15 +50,16 @@ Eigen::Matrix3d facing_rotation(const Eigen::Vector3d& facing, double spin) {
   return R * Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
-bool board_inside(const CameraModel& c, const BoardSpec& board, const Eigen::Isometry3d& world_from_board,
-                  double margin) {
+bool board_inside(const CameraModel& c, const BoardSpec& board,
+                  const Eigen::Isometry3d& world_from_board, double margin) {
   for (int i = 0; i < board.corner_count(); ++i) {
     // The outer squares and paper margin must be inside too: check a border one square out.
     for (double dx : {-1.5, 0.0, 1.5})
       for (double dy : {-1.5, 0.0, 1.5}) {
         const Eigen::Vector3d q = board.corner_mm(i) + board.square_mm * Eigen::Vector3d(dx, dy, 0);
         const auto p = c.project(world_from_board * q);
-        if (!p || p->x() < margin || p->y() < margin || p->x() > c.width - margin || p->y() > c.height - margin)
+        if (!p || p->x() < margin || p->y() < margin || p->x() > c.width - margin ||
+            p->y() > c.height - margin)
           return false;
       }
   }
@@ -80,7 +82,8 @@ Rig make_ring_rig(unsigned seed) {
                   Eigen::Vector3d::UnitZ(), 2 * kDeg * u(rng));
     } else {
       c = look_at(k, Eigen::Vector3d(50 * u(rng), 50 * u(rng), 3600),
-                  Eigen::Vector3d(100 * u(rng), 100 * u(rng), 0), Eigen::Vector3d::UnitX(), 2 * kDeg * u(rng));
+                  Eigen::Vector3d(100 * u(rng), 100 * u(rng), 0), Eigen::Vector3d::UnitX(),
+                  2 * kDeg * u(rng));
     }
     c.fx = 600 + 30 * u(rng);
     c.fy = c.fx * (1 + 0.004 * u(rng));
@@ -102,31 +105,35 @@ Eigen::Isometry3d floor_board_pose(const BoardSpec& board) {
   return pose;
 }
 
-std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& board, int close_ups, int shared,
-                                           unsigned seed) {
+std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& board, int close_ups,
+                                           int shared, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<PlannedView> plan;
   char name[64];
-  // Close-ups: the board held 1.4-2.2 m in front of one camera, centred on a 3x3 grid of image
-  // positions, tilted 20-40 degrees so the views are not parallel.
+  // Close-ups: the board held 1.8-2.8 m in front of one camera (small enough in the image to
+  // reach its corners), centred on a 3x3 grid of image positions, tilted 40-60 degrees every way
+  // in turn: strong tilts pin the principal point and the focal length (a nearly fronto-parallel
+  // board trades focal length against distance, and the principal point against rotation).
   for (const auto& c : rig.cameras) {
     const Eigen::Isometry3d world_from_cam = cam_pose(c).inverse();
     for (int v = 0; v < close_ups; ++v) {
       for (int attempt = 0; attempt < 200; ++attempt) {
         const double scale = attempt < 100 ? 1.0 : 0.5;  // fall back towards the centre
         const int cell = v % 9;
-        const Eigen::Vector2d target(c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * u(rng)),
-                                     c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * u(rng)));
+        const Eigen::Vector2d target(
+            c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * u(rng)),
+            c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * u(rng)));
         const Eigen::Vector2d xn = c.undistort_pixel(target);
-        const double dist = 1300 + 700 * (0.5 + 0.5 * u(rng));
+        const double dist = 1800 + 1000 * (0.5 + 0.5 * u(rng));
         const Eigen::Vector3d centre_cam = dist * Eigen::Vector3d(xn.x(), xn.y(), 1).normalized();
-        const double tilt = (30 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
+        const double tilt = (40 + 20 * (0.5 + 0.5 * u(rng))) * kDeg;
         const double axis_angle = M_PI / 4 * (v % 4) + 0.2 * u(rng);  // tilt every way in turn
         const Eigen::Vector3d axis(std::cos(axis_angle), std::sin(axis_angle), 0);
         Eigen::Isometry3d cam_from_board = Eigen::Isometry3d::Identity();
-        cam_from_board.linear() = Eigen::AngleAxisd(tilt, axis).toRotationMatrix() *
-                                  Eigen::AngleAxisd(0.4 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        cam_from_board.linear() =
+            Eigen::AngleAxisd(tilt, axis).toRotationMatrix() *
+            Eigen::AngleAxisd(0.4 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
         cam_from_board.translation() = centre_cam - cam_from_board.linear() * board.centre_mm();
         const Eigen::Isometry3d pose = world_from_cam * cam_from_board;
         if (!board_inside(c, board, pose, 8)) continue;
@@ -136,15 +143,17 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
       }
     }
   }
-  // Boards in the middle of the volume, faces turned to every side and upwards, so that each
-  // is seen by a few ring cameras and often by the ceiling camera.
+  // Boards spread over the volume (+-1.2 m, 0.6-1.6 m high), faces turned to every side and
+  // upwards, so that each is seen by a few ring cameras and often by the ceiling camera; boards at
+  // different distances from a camera separate its focal length from its distance.
   for (int v = 0; v < shared; ++v) {
     const double az = 2 * M_PI * v / shared + 10 * kDeg * u(rng);
     const double el = (25 + 25 * (0.5 + 0.5 * u(rng))) * kDeg;
-    const Eigen::Vector3d facing(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el));
+    const Eigen::Vector3d facing(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el),
+                                 std::sin(el));
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = facing_rotation(facing, 0.5 * u(rng));
-    const Eigen::Vector3d centre(500 * u(rng), 500 * u(rng), 1100 + 400 * u(rng));
+    const Eigen::Vector3d centre(1200 * u(rng), 1200 * u(rng), 1100 + 500 * u(rng));
     pose.translation() = centre - pose.linear() * board.centre_mm();
     std::snprintf(name, sizeof name, "b_shared%02d", v);
     plan.push_back({name, pose});
@@ -165,12 +174,14 @@ std::vector<cv::Point2f> project_board(const CameraModel& c, const BoardSpec& bo
   std::vector<cv::Point2f> corners;
   for (int k = 0; k < board.corner_count(); ++k) {
     const Eigen::Vector2d p = *c.project(world_from_board * board.corner_mm(k));
-    corners.emplace_back(static_cast<float>(p.x() + noise(rng)), static_cast<float>(p.y() + noise(rng)));
+    corners.emplace_back(static_cast<float>(p.x() + noise(rng)),
+                         static_cast<float>(p.y() + noise(rng)));
   }
   return corners;
 }
 
-BoardRenderer::BoardRenderer(const Rig& rig, BoardSpec board, double corner_noise_px, double pixel_noise)
+BoardRenderer::BoardRenderer(const Rig& rig, BoardSpec board, double corner_noise_px,
+                             double pixel_noise)
     : rig_(rig), board_(board), corner_noise_px_(corner_noise_px), pixel_noise_(pixel_noise) {
   // The exact (iterative) undistortion on a 4 px lattice, bilinear in between: the map is smooth
   // enough that this is exact to a few thousandths of a pixel, and 16 times cheaper.
@@ -185,21 +196,28 @@ BoardRenderer::BoardRenderer(const Rig& rig, BoardSpec board, double corner_nois
     for (int y = 0; y < c.height; ++y)
       for (int x = 0; x < c.width; ++x) {
         const int gx = x / kStep, gy = y / kStep;
-        const double a = static_cast<double>(x % kStep) / kStep, b = static_cast<double>(y % kStep) / kStep;
+        const double a = static_cast<double>(x % kStep) / kStep,
+                     b = static_cast<double>(y % kStep) / kStep;
         auto g = [&](int i, int j) { return grid[static_cast<size_t>((gy + j) * gw + gx + i)]; };
-        const Eigen::Vector2d n = (1 - a) * (1 - b) * g(0, 0) + a * (1 - b) * g(1, 0) + (1 - a) * b * g(0, 1) + a * b * g(1, 1);
+        const Eigen::Vector2d n = (1 - a) * (1 - b) * g(0, 0) + a * (1 - b) * g(1, 0) +
+                                  (1 - a) * b * g(0, 1) + a * b * g(1, 1);
         map.at<cv::Vec2d>(y, x) = {n.x(), n.y()};
       }
     normalised_.push_back(map);
   }
 }
 
-cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_board, std::mt19937& rng) const {
+cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_board,
+                              std::mt19937& rng) const {
   const CameraModel& c = rig_.cameras[index];
   const Eigen::Isometry3d cam_from_board = cam_pose(c) * world_from_board;
   const Eigen::Vector3d centre_cam = cam_from_board * board_.centre_mm();
   const Eigen::Vector3d z_cam = cam_from_board.linear().col(2);
-  if (centre_cam.z() <= 0 || z_cam.dot(centre_cam) <= 0) return {};  // behind, or seen from the back
+  // A board seen from behind, more obliquely than 70 degrees (the detector misses those) or
+  // partly outside the image carries nothing the calibration could use and detecting it only
+  // costs test time: such a camera delivers no image.
+  if (centre_cam.z() <= 0 || z_cam.dot(centre_cam.normalized()) < std::cos(70 * kDeg)) return {};
+  if (!board_inside(c, board_, world_from_board, 2)) return {};
 
   // Plane homography: normalised image point ~ M * (X, Y, 1) for board point (X, Y, 0) in mm.
   Eigen::Matrix3d M;
@@ -231,7 +249,8 @@ cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_
   auto displacement = [&](double u, double v) -> Eigen::Vector2d {
     u = std::clamp(u, 0.0, cols - 1.0);
     v = std::clamp(v, 0.0, rows - 1.0);
-    const int i = std::min(static_cast<int>(u), cols - 2), j = std::min(static_cast<int>(v), rows - 2);
+    const int i = std::min(static_cast<int>(u), cols - 2),
+              j = std::min(static_cast<int>(v), rows - 2);
     const double a = u - i, b = v - j;
     auto at = [&](int ii, int jj) { return disp[static_cast<size_t>(jj * cols + ii)]; };
     return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) +
@@ -257,7 +276,8 @@ cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_
       const double U[4] = {-1.5 + f * (cols + 2), cols + 0.5, cols + 0.5 - f * (cols + 2), -1.5};
       const double V[4] = {-1.5, -1.5 + f * (rows + 2), rows + 0.5, rows + 0.5 - f * (rows + 2)};
       for (int e = 0; e < 4; ++e) {
-        const auto p = c.project(world_from_board * Eigen::Vector3d(U[e] * board_.square_mm, V[e] * board_.square_mm, 0));
+        const auto p = c.project(world_from_board * Eigen::Vector3d(U[e] * board_.square_mm,
+                                                                    V[e] * board_.square_mm, 0));
         if (!p) {
           all_front = false;
           break;
@@ -284,9 +304,11 @@ cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_
       // derivatives of the (smooth) undistortion map.
       const cv::Vec2d n = map.at<cv::Vec2d>(y, x);
       const cv::Vec2d dx = (map.at<cv::Vec2d>(y, std::min(x + 1, c.width - 1)) -
-                            map.at<cv::Vec2d>(y, std::max(x - 1, 0))) / (std::min(x + 1, c.width - 1) - std::max(x - 1, 0));
+                            map.at<cv::Vec2d>(y, std::max(x - 1, 0))) /
+                           (std::min(x + 1, c.width - 1) - std::max(x - 1, 0));
       const cv::Vec2d dy = (map.at<cv::Vec2d>(std::min(y + 1, c.height - 1), x) -
-                            map.at<cv::Vec2d>(std::max(y - 1, 0), x)) / (std::min(y + 1, c.height - 1) - std::max(y - 1, 0));
+                            map.at<cv::Vec2d>(std::max(y - 1, 0), x)) /
+                           (std::min(y + 1, c.height - 1) - std::max(y - 1, 0));
       double sum = 0;
       for (int sy = 0; sy < kSub; ++sy)
         for (int sx = 0; sx < kSub; ++sx) {

@@ -1,9 +1,10 @@
 #pragma once
 // Synthetic calibration captures for the tests: a rig like the thesis lab (7 cameras in a ring,
 // one on the ceiling, 800x600, realistic distortion), a capture plan (close-ups per camera,
-// boards in the middle seen by several cameras, the board on the floor) and a renderer that draws
-// the board through the exact camera model (anti-aliased by 4x4 supersampling) with every inner
-// corner displaced by seeded Gaussian noise, so detected corners carry a known noise level.
+// boards spread over the volume seen by several cameras, the board on the floor) and a renderer
+// that draws the board through the exact camera model (anti-aliased by 4x4 supersampling) with
+// every inner corner displaced by seeded Gaussian noise, so detected corners carry a known noise
+// level. Pixel centres sit at integer coordinates, as in OpenCV.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <random>
@@ -40,8 +41,8 @@ std::vector<cv::Point2f> project_board(const CameraModel& c, const BoardSpec& bo
 class BoardRenderer {
  public:
   BoardRenderer(const Rig& rig, BoardSpec board, double corner_noise_px, double pixel_noise);
-  // The image camera `index` takes of the board, or an empty Mat if it cannot see the printed
-  // face. `rng` draws the corner displacements and the pixel noise.
+  // The image camera `index` takes of the board, or an empty Mat if it cannot see the whole board
+  // within 70 degrees of head-on. `rng` draws the corner displacements and the pixel noise.
   cv::Mat render(size_t index, const Eigen::Isometry3d& world_from_board, std::mt19937& rng) const;
 
  private:
@@ -56,8 +57,8 @@ class BoardRenderer {
 // no image.
 class SyntheticViewProvider final : public ViewProvider {
  public:
-  SyntheticViewProvider(const Rig& rig, const BoardRenderer& renderer, std::vector<PlannedView> plan,
-                        unsigned seed);
+  SyntheticViewProvider(const Rig& rig, const BoardRenderer& renderer,
+                        std::vector<PlannedView> plan, unsigned seed);
   bool next(CaptureInstant& out) override;
   std::string describe() const override { return "synthetic capture"; }
 

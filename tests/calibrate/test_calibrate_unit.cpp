@@ -1,8 +1,8 @@
 // Fast pieces of the calibration tool (also run under the sanitizers): Jacobians, the folder
 // provider, the command line, refusing a symmetric board.
 #include <Eigen/Geometry>
-#include <catch2/catch.hpp>
 #include <array>
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -38,7 +38,8 @@ TEST_CASE("analytic Jacobians match central differences") {
       REQUIRE(project_with_jacobians(cam, board, X, px, &jc, &jb));
       for (int i = 0; i < kCameraParams; ++i) {
         const double h = i < 3 ? 1e-7 : (i < 6 ? 1e-4 : (i < 10 ? 1e-4 : 1e-7));
-        Eigen::Matrix<double, kCameraParams, 1> step = Eigen::Matrix<double, kCameraParams, 1>::Zero();
+        Eigen::Matrix<double, kCameraParams, 1> step =
+            Eigen::Matrix<double, kCameraParams, 1>::Zero();
         step(i) = h;
         CameraModel plus = cam, minus = cam;
         apply_camera_step(plus, step);
@@ -99,14 +100,17 @@ TEST_CASE("command line errors name the argument") {
     std::copy(args.begin(), args.end(), argv.begin() + 1);
     return parse_command_line(static_cast<int>(args.size() + 1), argv.data());
   };
-  CHECK_THROWS_WITH(parse({"--images", "d", "--out", "r.yaml", "--board", "9by6", "--square-mm", "100"}),
-                    Contains("--board: '9by6' must be COLSxROWS"));
-  CHECK_THROWS_WITH(parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "ten"}),
-                    Contains("--square-mm: 'ten' is not a number"));
-  CHECK_THROWS_WITH(parse({"--images", "d", "--board", "9x6", "--square-mm", "100"}), Contains("--out"));
+  CHECK_THROWS_WITH(
+      parse({"--images", "d", "--out", "r.yaml", "--board", "9by6", "--square-mm", "100"}),
+      Contains("--board: '9by6' must be COLSxROWS"));
+  CHECK_THROWS_WITH(
+      parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "ten"}),
+      Contains("--square-mm: 'ten' is not a number"));
+  CHECK_THROWS_WITH(parse({"--images", "d", "--board", "9x6", "--square-mm", "100"}),
+                    Contains("--out"));
   CHECK_THROWS_WITH(parse({"--frobnicate"}), Contains("unknown argument '--frobnicate'"));
-  const CommandLine ok = parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "120",
-                                "--floor-view", "ground", "--no-k3"});
+  const CommandLine ok = parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm",
+                                "120", "--floor-view", "ground", "--no-k3"});
   CHECK(ok.options.board.square_mm == 120);
   CHECK(ok.options.floor_view == "ground");
   CHECK_FALSE(ok.options.intrinsics.estimate_k3);

@@ -91,7 +91,8 @@ bool project_with_jacobians(const CameraModel& c, const Eigen::Isometry3d& world
   dd(1, 1) = radial + 2 * y * y * drad + 6 * p1 * y + 2 * p2 * x;
   Eigen::Matrix<double, 2, 3> dn;  // normalised point w.r.t. the camera-frame point
   dn << iz, 0, -x * iz, 0, iz, -y * iz;
-  const Eigen::Matrix<double, 2, 3> dpix_dpc = Eigen::DiagonalMatrix<double, 2>(c.fx, c.fy) * dd * dn;
+  const Eigen::Matrix<double, 2, 3> dpix_dpc =
+      Eigen::DiagonalMatrix<double, 2>(c.fx, c.fy) * dd * dn;
 
   if (jc) {
     jc->block<2, 3>(0, 0) = -dpix_dpc * skew(rcp);
@@ -147,7 +148,8 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
 
   // Parameters held constant get a zero Jacobian column and a unit diagonal, so their step is 0.
   std::array<bool, kCameraParams> free{};
-  for (int i = 0; i < kCameraParams; ++i) free[static_cast<size_t>(i)] = i < 6 || options.refine_intrinsics;
+  for (int i = 0; i < kCameraParams; ++i)
+    free[static_cast<size_t>(i)] = i < 6 || options.refine_intrinsics;
   if (!options.refine_k3) free[14] = false;
 
   // Observations grouped by board, for the Schur complement.
@@ -158,9 +160,10 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
   const size_t n_corners = corner_total(p);
   HULLPOSE_ASSERT(n_corners > 0);
   double cost = total_cost(p, p.cameras, p.world_from_board);
-  HULLPOSE_THROW_UNLESS(std::isfinite(cost),
-                        "bundle adjustment: a board corner lies behind a camera in the initial rig; "
-                        "the cameras were linked inconsistently");
+  HULLPOSE_THROW_UNLESS(
+      std::isfinite(cost),
+      "bundle adjustment: a board corner lies behind a camera in the initial rig; "
+      "the cameras were linked inconsistently");
   BundleResult result;
   result.initial_rms_px = std::sqrt(cost / static_cast<double>(n_corners));
 
@@ -187,8 +190,8 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
       const auto c = static_cast<size_t>(obs.camera), b = static_cast<size_t>(obs.board);
       W[o].setZero();
       for (size_t j = 0; j < obs.pixels.size(); ++j) {
-        const bool ok = project_with_jacobians(p.cameras[c], p.world_from_board[b], p.board_points[j], px,
-                                               &jc, &jb);
+        const bool ok = project_with_jacobians(p.cameras[c], p.world_from_board[b],
+                                               p.board_points[j], px, &jc, &jb);
         HULLPOSE_ASSERT(ok);  // the cost is finite, so every point is in front
         for (int i = 0; i < kCameraParams; ++i)
           if (!free[static_cast<size_t>(i)]) jc.col(i).setZero();
@@ -242,7 +245,8 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
       std::vector<Eigen::Isometry3d> trial_boards = p.world_from_board;
       double step_norm = 0;
       for (size_t c = 0; c < n_cams; ++c) {
-        const CameraVector step = dc.segment<kCameraParams>(static_cast<Eigen::Index>(c) * kCameraParams);
+        const CameraVector step =
+            dc.segment<kCameraParams>(static_cast<Eigen::Index>(c) * kCameraParams);
         step_norm += step.squaredNorm();
         apply_camera_step(trial_cameras[c], step);
       }
@@ -251,7 +255,8 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
         BoardVector rb = -gb[b];
         for (size_t o : by_board[b])
           rb -= W[o].transpose() *
-                dc.segment<kCameraParams>(static_cast<Eigen::Index>(p.observations[o].camera) * kCameraParams);
+                dc.segment<kCameraParams>(static_cast<Eigen::Index>(p.observations[o].camera) *
+                                          kCameraParams);
         const BoardVector db = Vinv[b] * rb;
         step_norm += db.squaredNorm();
         apply_board_step(trial_boards[b], db);

@@ -53,7 +53,8 @@ Linkage link_cameras(int n_cameras, int n_views, const std::vector<PoseObservati
       if (seen.size() > 1) ++link.shared_views[static_cast<size_t>(a->camera)];
       for (const auto* b : seen)
         if (a->camera != b->camera)
-          pair_poses[{a->camera, b->camera}].push_back(a->cam_from_board * b->cam_from_board.inverse());
+          pair_poses[{a->camera, b->camera}].push_back(a->cam_from_board *
+                                                       b->cam_from_board.inverse());
     }
   }
   // Prim's algorithm for a maximum spanning tree: always attach the camera sharing the most
@@ -83,13 +84,17 @@ Linkage link_cameras(int n_cameras, int n_views, const std::vector<PoseObservati
   for (size_t v = 0; v < by_view.size(); ++v) {
     const PoseObservation* best = nullptr;
     for (const auto* o : by_view[v])
-      if (link.linked[static_cast<size_t>(o->camera)] && (!best || o->rms_px < best->rms_px)) best = o;
-    if (best) link.root_from_board[v] = link.root_from_cam[static_cast<size_t>(best->camera)] * best->cam_from_board;
+      if (link.linked[static_cast<size_t>(o->camera)] && (!best || o->rms_px < best->rms_px))
+        best = o;
+    if (best)
+      link.root_from_board[v] =
+          link.root_from_cam[static_cast<size_t>(best->camera)] * best->cam_from_board;
   }
   return link;
 }
 
-CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int min_cameras, double step_mm) {
+CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int min_cameras,
+                                 double step_mm) {
   HULLPOSE_ASSERT(!cameras.empty() && step_mm > 0);
   min_cameras = std::clamp(min_cameras, 1, static_cast<int>(cameras.size()));
   // Far outside the field of view the distortion polynomial can fold points back into the
@@ -130,8 +135,9 @@ CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int mi
           vmax = vmax.cwiseMax(p);
         }
       }
-  HULLPOSE_THROW_UNLESS(vmin.allFinite(), "no point from the floor up to the highest camera is seen by "
-                                              << min_cameras << " cameras: the cameras share no common view");
+  HULLPOSE_THROW_UNLESS(vmin.allFinite(),
+                        "no point from the floor up to the highest camera is seen by "
+                            << min_cameras << " cameras: the cameras share no common view");
   CaptureVolume volume;
   volume.min_mm = vmin;
   volume.max_mm = vmax.cwiseMax(vmin + Eigen::Vector3d::Constant(step_mm));

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 
 #include "hullpose/calibrate/options.hpp"
@@ -16,9 +17,18 @@ int main(int argc, char** argv) {
       std::cout << usage();
       return 0;
     }
-    FolderViewProvider images(cli.images);
+    std::unique_ptr<ViewProvider> views;
+    if (cli.node_configs.empty()) {
+      views = std::make_unique<FolderViewProvider>(cli.images);
+    } else {
+      std::vector<LiveCamera> cameras;
+      for (const auto& file : cli.node_configs)
+        cameras.push_back(live_camera_from_node_config(file));
+      views = std::make_unique<LiveViewProvider>(std::move(cameras), cli.live);
+    }
+    std::cout << "calibrating from " << views->describe() << "\n";
     RigCalibrator calibrator(cli.options, cli.quiet ? nullptr : &std::cout);
-    calibrator.add_all(images);
+    calibrator.add_all(*views);
     const CalibrationResult result = calibrator.solve();
     hullpose::save_rig(result.rig, cli.out);
     print_report(std::cout, result);

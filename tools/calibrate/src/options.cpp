@@ -16,7 +16,8 @@ double to_double(const std::string& flag, const std::string& value) {
   } catch (const std::exception&) {
     used = 0;
   }
-  HULLPOSE_THROW_UNLESS(used == value.size() && !value.empty(), flag << ": '" << value << "' is not a number");
+  HULLPOSE_THROW_UNLESS(used == value.size() && !value.empty(),
+                        flag << ": '" << value << "' is not a number");
   return v;
 }
 
@@ -31,8 +32,19 @@ int to_int(const std::string& flag, const std::string& value) {
 }  // namespace
 
 std::string usage() {
-  return "usage: hullpose-calibrate --images DIR --board COLSxROWS --square-mm S --out RIG.yaml [options]\n"
-         "  DIR holds cam<ID>/<instant>.png; images with the same <instant> name were taken together.\n"
+  return "usage: hullpose-calibrate (--images DIR | --node-config FILE...) --board COLSxROWS "
+         "--square-mm S\n"
+         "                          --out RIG.yaml [options]\n"
+         "  DIR holds cam<ID>/<instant>.png; images with the same <instant> name were taken "
+         "together.\n"
+         "  --node-config FILE       live: a camera node's config (its camera id and frame "
+         "source:\n"
+         "                           libcamera, v4l2, file, synthetic); repeat once per camera. "
+         "Instants\n"
+         "                           are named live00000, live00001, ... (--floor-view live00042)\n"
+         "  --frames N               live: stop after N instants (default: when a source ends)\n"
+         "  --stride N               live: one instant every N frames (default 1)\n"
+         "  --timeout-ms T           live: a camera silent this long is an error (default 2000)\n"
          "  --board COLSxROWS        inner corners, one side even and one odd (e.g. 9x6)\n"
          "  --square-mm S            square size in mm\n"
          "  --floor-view NAME        instant with the board lying on the floor (default: floor)\n"
@@ -42,7 +54,8 @@ std::string usage() {
          "  --fix-intrinsics         keep the per-camera intrinsics in the bundle adjustment\n"
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
-         "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default 2)\n"
+         "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default "
+         "2)\n"
          "  --report FILE            also write the report to FILE\n"
          "  --quiet                  no per-image feedback\n";
 }
@@ -61,6 +74,14 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       return cli;
     } else if (flag == "--images") {
       cli.images = value();
+    } else if (flag == "--node-config") {
+      cli.node_configs.emplace_back(value());
+    } else if (flag == "--frames") {
+      cli.live.max_instants = to_int(flag, value());
+    } else if (flag == "--stride") {
+      cli.live.stride = to_int(flag, value());
+    } else if (flag == "--timeout-ms") {
+      cli.live.timeout_ms = to_int(flag, value());
     } else if (flag == "--out") {
       cli.out = value();
     } else if (flag == "--report") {
@@ -68,7 +89,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else if (flag == "--board") {
       const std::string v = value();
       const auto x = v.find('x');
-      HULLPOSE_THROW_UNLESS(x != std::string::npos, "--board: '" << v << "' must be COLSxROWS, e.g. 9x6");
+      HULLPOSE_THROW_UNLESS(x != std::string::npos,
+                            "--board: '" << v << "' must be COLSxROWS, e.g. 9x6");
       cli.options.board.cols = to_int("--board", v.substr(0, x));
       cli.options.board.rows = to_int("--board", v.substr(x + 1));
       have_board = true;
@@ -97,9 +119,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       HULLPOSE_THROW("unknown argument '" << flag << "' (see --help)");
     }
   }
-  HULLPOSE_THROW_UNLESS(!cli.images.empty(), "--images DIR is required (see --help)");
+  HULLPOSE_THROW_UNLESS(
+      cli.images.empty() != cli.node_configs.empty(),
+      "give either --images DIR or --node-config FILE (one per camera), not both (see --help)");
   HULLPOSE_THROW_UNLESS(!cli.out.empty(), "--out RIG.yaml is required (see --help)");
-  HULLPOSE_THROW_UNLESS(have_board && have_square, "--board and --square-mm are required (see --help)");
+  HULLPOSE_THROW_UNLESS(have_board && have_square,
+                        "--board and --square-mm are required (see --help)");
   cli.options.board.validate();
   return cli;
 }

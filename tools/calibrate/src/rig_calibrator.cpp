@@ -30,6 +30,7 @@ std::string camera_list(const std::vector<int>& ids) {
 
 RigCalibrator::RigCalibrator(CalibrationOptions options, std::ostream* feedback)
     : options_(std::move(options)), feedback_(feedback) {
+  options_.intrinsics.live_estimates = feedback_ != nullptr;
   options_.board.validate();
   HULLPOSE_THROW_UNLESS(!options_.floor_view.empty(), "the floor view name must not be empty");
 }
@@ -43,12 +44,15 @@ int RigCalibrator::view_index(const std::string& view) {
 void RigCalibrator::add(const CaptureInstant& instant) {
   // Detection dominates the run time and the images are independent: one task per image.
   std::vector<std::vector<cv::Point2f>> corners(instant.images.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(instant.images.size())), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i)
-      corners[static_cast<size_t>(i)] = detect_board(instant.images[static_cast<size_t>(i)].image, options_.board);
-  });
+  cv::parallel_for_(
+      cv::Range(0, static_cast<int>(instant.images.size())), [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i)
+          corners[static_cast<size_t>(i)] =
+              detect_board(instant.images[static_cast<size_t>(i)].image, options_.board);
+      });
   for (size_t i = 0; i < instant.images.size(); ++i)
-    add_detection(instant.name, instant.images[i].camera_id, instant.images[i].image.size(), std::move(corners[i]));
+    add_detection(instant.name, instant.images[i].camera_id, instant.images[i].image.size(),
+                  std::move(corners[i]));
 }
 
 void RigCalibrator::add_all(ViewProvider& provider) {
@@ -58,11 +62,15 @@ void RigCalibrator::add_all(ViewProvider& provider) {
 
 void RigCalibrator::add_detection(const std::string& view, int camera_id, cv::Size image_size,
                                   std::vector<cv::Point2f> corners) {
-  HULLPOSE_THROW_UNLESS(camera_id >= 0 && camera_id < 64, "camera id " << camera_id << " must be in 0..63");
+  HULLPOSE_THROW_UNLESS(camera_id >= 0 && camera_id < 64,
+                        "camera id " << camera_id << " must be in 0..63");
   view_index(view);
   auto it = cameras_.find(camera_id);
   if (it == cameras_.end())
-    it = cameras_.emplace(camera_id, IntrinsicsCalibrator(camera_id, options_.board, options_.intrinsics)).first;
+    it = cameras_
+             .emplace(camera_id,
+                      IntrinsicsCalibrator(camera_id, options_.board, options_.intrinsics))
+             .first;
   const ViewFeedback fb = it->second.add_view(view, image_size, std::move(corners));
   if (!feedback_) return;
   std::ostream& out = *feedback_;
@@ -105,14 +113,16 @@ CalibrationResult RigCalibrator::solve() const {
   for (int c = 0; c < n_cams; ++c) {
     const auto& in = intrinsics[static_cast<size_t>(c)];
     for (size_t k = 0; k < in.kept.size(); ++k) {
-      poses.push_back({c, view_index_.at(in.kept[k].view), in.cam_from_board[k], in.view_rms_px[k]});
+      poses.push_back(
+          {c, view_index_.at(in.kept[k].view), in.cam_from_board[k], in.view_rms_px[k]});
       corners.push_back(&in.kept[k].corners);
     }
   }
   const auto floor_it = view_index_.find(options_.floor_view);
   HULLPOSE_THROW_UNLESS(floor_it != view_index_.end(),
-                        "no capture instant named '" << options_.floor_view
-                                                     << "' (the board lying on the floor sets the world frame)");
+                        "no capture instant named '"
+                            << options_.floor_view
+                            << "' (the board lying on the floor sets the world frame)");
   const int floor = floor_it->second;
   int root = -1;
   double root_rms = 0;
@@ -121,8 +131,9 @@ CalibrationResult RigCalibrator::solve() const {
       root = p.camera;
       root_rms = p.rms_px;
     }
-  HULLPOSE_THROW_UNLESS(root >= 0, "the floor board (instant '" << options_.floor_view
-                                                                << "') was not found (or was rejected) in any camera");
+  HULLPOSE_THROW_UNLESS(root >= 0, "the floor board (instant '"
+                                       << options_.floor_view
+                                       << "') was not found (or was rejected) in any camera");
   const Linkage link = link_cameras(n_cams, n_views, poses, root);
   std::vector<int> unlinked;
   for (int c = 0; c < n_cams; ++c)
@@ -136,8 +147,7 @@ CalibrationResult RigCalibrator::solve() const {
       msg << (i ? "; " : "") << "camera " << unlinked[i] << " shares "
           << link.shared_views[static_cast<size_t>(c)] << " board views with other cameras";
     }
-    msg << " (linked to the floor board's camera " << ids[static_cast<size_t>(root)]
-        << " are: ";
+    msg << " (linked to the floor board's camera " << ids[static_cast<size_t>(root)] << " are: ";
     std::vector<int> linked;
     for (int c = 0; c < n_cams; ++c)
       if (link.linked[static_cast<size_t>(c)]) linked.push_back(ids[static_cast<size_t>(c)]);
@@ -148,16 +158,19 @@ CalibrationResult RigCalibrator::solve() const {
   // 3. World frame: the floor board, printed face up, z up, origin under its grid centre.
   Eigen::Isometry3d world_from_floor = Eigen::Isometry3d::Identity();
   world_from_floor.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  world_from_floor.translation() =
-      Eigen::Vector3d(0, 0, options_.board_thickness_mm) - world_from_floor.linear() * options_.board.centre_mm();
-  const Eigen::Isometry3d world_from_root = world_from_floor * link.root_from_board[static_cast<size_t>(floor)]->inverse();
+  world_from_floor.translation() = Eigen::Vector3d(0, 0, options_.board_thickness_mm) -
+                                   world_from_floor.linear() * options_.board.centre_mm();
+  const Eigen::Isometry3d world_from_root =
+      world_from_floor * link.root_from_board[static_cast<size_t>(floor)]->inverse();
 
   // 4. Bundle adjustment over every observation, the floor board held fixed.
   BundleProblem problem;
-  for (int i = 0; i < options_.board.corner_count(); ++i) problem.board_points.push_back(options_.board.corner_mm(i));
+  for (int i = 0; i < options_.board.corner_count(); ++i)
+    problem.board_points.push_back(options_.board.corner_mm(i));
   for (int c = 0; c < n_cams; ++c) {
     CameraModel cam = intrinsics[static_cast<size_t>(c)].camera;
-    const Eigen::Isometry3d cam_from_world = (world_from_root * link.root_from_cam[static_cast<size_t>(c)]).inverse();
+    const Eigen::Isometry3d cam_from_world =
+        (world_from_root * link.root_from_cam[static_cast<size_t>(c)]).inverse();
     cam.R = cam_from_world.linear();
     cam.t = cam_from_world.translation();
     problem.cameras.push_back(cam);
@@ -183,10 +196,12 @@ CalibrationResult RigCalibrator::solve() const {
   ba.refine_k3 = options_.intrinsics.estimate_k3;
   const BundleResult adjusted = bundle_adjust(problem, ba);
   HULLPOSE_LOG(Calibrate, Info) << "bundle adjustment: rms " << adjusted.initial_rms_px << " -> "
-                                << adjusted.final_rms_px << " px in " << adjusted.iterations << " iterations";
+                                << adjusted.final_rms_px << " px in " << adjusted.iterations
+                                << " iterations";
   HULLPOSE_THROW_UNLESS(adjusted.final_rms_px <= options_.max_rms_px,
-                        "the calibrated rig is inconsistent: RMS reprojection error " << adjusted.final_rms_px
-                            << " px after bundle adjustment exceeds " << options_.max_rms_px
+                        "the calibrated rig is inconsistent: RMS reprojection error "
+                            << adjusted.final_rms_px << " px after bundle adjustment exceeds "
+                            << options_.max_rms_px
                             << " px (wrong board size, moving cameras, or unsynchronised images?)");
 
   // Each camera alone fits its boards to its intrinsic RMS; much worse in the rig means the
@@ -197,16 +212,16 @@ CalibrationResult RigCalibrator::solve() const {
     const double in_rig = adjusted.camera_rms_px[static_cast<size_t>(c)];
     if (in_rig > kMaxRigToIntrinsicRms * alone + kRigRmsSlackPx) {
       std::ostringstream s;
-      s << "camera " << ids[static_cast<size_t>(c)] << " (" << std::setprecision(3) << in_rig << " px in the rig, "
-        << alone << " px alone)";
+      s << "camera " << ids[static_cast<size_t>(c)] << " (" << std::setprecision(3) << in_rig
+        << " px in the rig, " << alone << " px alone)";
       inconsistent.push_back(s.str());
     }
   }
   if (!inconsistent.empty()) {
     std::string list;
     for (const auto& s : inconsistent) list += (list.empty() ? "" : ", ") + s;
-    HULLPOSE_THROW("the calibrated rig is inconsistent: " << list
-                                                          << " (wrong board size, a camera moved, or unsynchronised images?)");
+    HULLPOSE_THROW("the calibrated rig is inconsistent: "
+                   << list << " (wrong board size, a camera moved, or unsynchronised images?)");
   }
 
   CalibrationResult result;
@@ -239,24 +254,26 @@ CalibrationResult RigCalibrator::solve() const {
 }
 
 void print_report(std::ostream& out, const CalibrationResult& r) {
-  out << "camera  images  boards  kept  shared  coverage  rms-intrinsic  rms-rig   fx       fy       cx      cy\n";
+  out << "camera  images  boards  kept  shared  coverage  rms-intrinsic  rms-rig   fx       fy     "
+         "  cx      cy\n";
   for (size_t i = 0; i < r.cameras.size(); ++i) {
     const auto& c = r.cameras[i];
     const auto& m = r.rig.cameras[i];
-    out << std::left << std::setw(8) << ("cam" + std::to_string(c.id)) << std::right << std::setw(6) << c.images
-        << std::setw(8) << c.boards_found << std::setw(6) << c.views_kept << std::setw(8) << c.shared_views
-        << std::setw(9) << std::fixed << std::setprecision(0) << 100 * c.coverage << "%" << std::setprecision(3)
-        << std::setw(15) << c.intrinsic_rms_px << std::setw(9) << c.rig_rms_px << std::setprecision(1)
-        << std::setw(9) << m.fx << std::setw(9) << m.fy << std::setw(8) << m.cx << std::setw(8) << m.cy << "\n";
+    out << std::left << std::setw(8) << ("cam" + std::to_string(c.id)) << std::right << std::setw(6)
+        << c.images << std::setw(8) << c.boards_found << std::setw(6) << c.views_kept
+        << std::setw(8) << c.shared_views << std::setw(9) << std::fixed << std::setprecision(0)
+        << 100 * c.coverage << "%" << std::setprecision(3) << std::setw(15) << c.intrinsic_rms_px
+        << std::setw(9) << c.rig_rms_px << std::setprecision(1) << std::setw(9) << m.fx
+        << std::setw(9) << m.fy << std::setw(8) << m.cx << std::setw(8) << m.cy << "\n";
     if (!c.rejected_views.empty()) {
       out << "        rejected views:";
       for (const auto& v : c.rejected_views) out << " " << v;
       out << "\n";
     }
   }
-  out << std::setprecision(3) << "rig '" << r.rig.rig_id << "': " << r.cameras.size() << " cameras, " << r.corners
-      << " corners, RMS " << r.initial_rms_px << " px chained -> " << r.rms_px << " px after bundle adjustment ("
-      << r.iterations << " iterations)\n"
+  out << std::setprecision(3) << "rig '" << r.rig.rig_id << "': " << r.cameras.size()
+      << " cameras, " << r.corners << " corners, RMS " << r.initial_rms_px << " px chained -> "
+      << r.rms_px << " px after bundle adjustment (" << r.iterations << " iterations)\n"
       << std::setprecision(0) << "capture volume [" << r.rig.volume.min_mm.transpose() << "] .. ["
       << r.rig.volume.max_mm.transpose() << "] mm\n";
 }

@@ -25,7 +25,8 @@ int camera_id_of(const std::string& folder) {
 
 bool is_image(const fs::path& p) {
   std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm";
 }
 
@@ -64,6 +65,8 @@ bool FolderViewProvider::next(CaptureInstant& out) {
   return true;
 }
 
-std::string FolderViewProvider::describe() const { return "folder " + dir_.string(); }
+std::string FolderViewProvider::describe() const {
+  return "folder " + dir_.string();
+}
 
 }  // namespace hullpose::calibrate

@@ -16,15 +16,16 @@
 
 namespace hullpose::calibrate {
 
-// Camera parameter block: rotation increment (3, left-multiplied), t (3), fx fy cx cy, k1 k2 p1 p2 k3.
+// Camera parameter block: rotation increment (3, left-multiplied), t (3), fx fy cx cy, k1 k2 p1 p2
+// k3.
 constexpr int kCameraParams = 15;
 using CameraJacobian = Eigen::Matrix<double, 2, kCameraParams>;
 // Board parameter block: rotation increment (3, left-multiplied), translation (3).
 using BoardJacobian = Eigen::Matrix<double, 2, 6>;
 
 struct BoardObservation {
-  int camera = 0;  // index into BundleProblem::cameras
-  int board = 0;   // index into BundleProblem::world_from_board
+  int camera = 0;                       // index into BundleProblem::cameras
+  int board = 0;                        // index into BundleProblem::world_from_board
   std::vector<Eigen::Vector2d> pixels;  // one per board point, same order
 };
 
@@ -32,7 +33,7 @@ struct BundleProblem {
   std::vector<Eigen::Vector3d> board_points;  // board frame, mm
   std::vector<CameraModel> cameras;           // initial values; refined in place
   std::vector<Eigen::Isometry3d> world_from_board;
-  std::vector<bool> board_fixed;              // the gauge: at least one board is fixed
+  std::vector<bool> board_fixed;  // the gauge: at least one board is fixed
   std::vector<BoardObservation> observations;
 };
 

@@ -20,10 +20,11 @@ struct PoseObservation {
 };
 
 struct Linkage {
-  std::vector<bool> linked;                    // per camera: reached from the root
+  std::vector<bool> linked;                      // per camera: reached from the root
   std::vector<Eigen::Isometry3d> root_from_cam;  // per camera (identity where not linked)
-  std::vector<std::optional<Eigen::Isometry3d>> root_from_board;  // per view seen by a linked camera
-  std::vector<int> shared_views;               // per camera: views shared with any other camera
+  std::vector<std::optional<Eigen::Isometry3d>>
+      root_from_board;            // per view seen by a linked camera
+  std::vector<int> shared_views;  // per camera: views shared with any other camera
 };
 
 Linkage link_cameras(int n_cameras, int n_views, const std::vector<PoseObservation>& observations,

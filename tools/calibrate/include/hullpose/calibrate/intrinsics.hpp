@@ -3,13 +3,12 @@
 // cv::calibrateCamera), with the live feedback of Calvin (thesis paper 1): as each view arrives,
 // how much of the image the boards cover, how many views are kept and the view's reprojection
 // error; views whose error stands out are rejected before the final estimate.
+#include <Eigen/Geometry>
 #include <array>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <opencv2/core.hpp>
 
 #include "hullpose/calibrate/board.hpp"
 #include "hullpose/common/camera.hpp"
@@ -17,11 +16,14 @@
 namespace hullpose::calibrate {
 
 struct IntrinsicsOptions {
-  int min_views = 8;              // kept views needed for an estimate
-  double outlier_factor = 3.0;    // reject a view whose RMS exceeds factor x median ...
-  double outlier_floor_px = 1.0;  // ... and this absolute floor
+  int min_views = 8;                // kept views needed for an estimate
+  double outlier_factor = 3.0;      // reject a view whose RMS exceeds factor x median ...
+  double outlier_floor_px = 1.0;    // ... and this absolute floor
   double min_tilt_spread_deg = 10;  // views must differ this much in board orientation
   bool estimate_k3 = true;
+  // Re-estimate as views arrive, for the per-view error in the feedback (costs a calibration
+  // each time the views grow by half; off when nobody reads the feedback).
+  bool live_estimates = true;
 };
 
 // What the user sees after each view (printed as views are captured).
@@ -30,9 +32,9 @@ struct ViewFeedback {
   std::string view;
   bool found = false;
   int views_kept = 0;
-  double coverage = 0;                  // fraction of the image covered by boards so far
-  std::optional<double> view_rms_px;    // once a first estimate exists
-  bool outlier = false;                 // the view would be rejected by the current estimate
+  double coverage = 0;                // fraction of the image covered by boards so far
+  std::optional<double> view_rms_px;  // once a first estimate exists
+  bool outlier = false;               // the view would be rejected by the current estimate
 };
 
 struct BoardView {
@@ -55,7 +57,8 @@ class IntrinsicsCalibrator {
   IntrinsicsCalibrator(int camera_id, BoardSpec board, IntrinsicsOptions options);
 
   // `corners` empty = no board found in this view. Every image of a camera must have one size.
-  ViewFeedback add_view(const std::string& view, cv::Size image_size, std::vector<cv::Point2f> corners);
+  ViewFeedback add_view(const std::string& view, cv::Size image_size,
+                        std::vector<cv::Point2f> corners);
   int views_found() const { return static_cast<int>(views_.size()); }
   int views_seen() const { return seen_; }
   // Throws hullpose::Error naming the camera: no board found, too few views, degenerate views.
@@ -64,13 +67,14 @@ class IntrinsicsCalibrator {
  private:
   struct Estimate {
     cv::Mat K, dist;
-    std::array<double, 4> sigma{};           // one-sigma fx, fy, cx, cy
-    std::vector<Eigen::Vector3d> normals;    // board normals per view, camera frame
+    std::array<double, 4> sigma{};         // one-sigma fx, fy, cx, cy
+    std::vector<Eigen::Vector3d> normals;  // board normals per view, camera frame
   };
   // Throws if the views were degenerate (all parallel) or leave the intrinsics uncertain.
   void check_determined(const Estimate& e, size_t views) const;
   Estimate run_opencv(const std::vector<const BoardView*>& views, std::vector<cv::Mat>& rvecs,
-                      std::vector<cv::Mat>& tvecs, std::vector<double>& per_view, double& rms) const;
+                      std::vector<cv::Mat>& tvecs, std::vector<double>& per_view,
+                      double& rms) const;
 
   int camera_id_;
   BoardSpec board_;

@@ -2,13 +2,18 @@
 // hullpose-calibrate's command line.
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "hullpose/calibrate/live_provider.hpp"
 #include "hullpose/calibrate/rig_calibrator.hpp"
 
 namespace hullpose::calibrate {
 
 struct CommandLine {
-  std::filesystem::path images;  // DIR with cam<ID>/<instant>.png
+  std::filesystem::path images;  // DIR with cam<ID>/<instant>.png ...
+  std::vector<std::filesystem::path>
+      node_configs;  // ... or live: one camera node config per camera
+  LiveOptions live;
   std::filesystem::path out;     // rig file to write
   std::filesystem::path report;  // optional copy of the report
   CalibrationOptions options;

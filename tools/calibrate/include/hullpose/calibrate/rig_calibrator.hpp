@@ -22,9 +22,9 @@ struct CalibrationOptions {
   // its corner grid, x along its rows of corners, z up.
   std::string floor_view = "floor";
   double board_thickness_mm = 0;
-  bool refine_intrinsics = true;    // in the bundle adjustment
-  int volume_min_cameras = 0;       // 0: all cameras
-  double max_rms_px = 2.0;          // a rig worse than this is refused, not written
+  bool refine_intrinsics = true;  // in the bundle adjustment
+  int volume_min_cameras = 0;     // 0: all cameras
+  double max_rms_px = 2.0;        // a rig worse than this is refused, not written
 };
 
 struct CameraReport {
@@ -33,10 +33,10 @@ struct CameraReport {
   int boards_found = 0;
   int views_kept = 0;
   std::vector<std::string> rejected_views;
-  int shared_views = 0;          // kept views that another camera saw too
-  double coverage = 0;           // fraction of the image covered by kept boards
-  double intrinsic_rms_px = 0;   // cv::calibrateCamera alone
-  double rig_rms_px = 0;         // after the bundle adjustment
+  int shared_views = 0;         // kept views that another camera saw too
+  double coverage = 0;          // fraction of the image covered by kept boards
+  double intrinsic_rms_px = 0;  // cv::calibrateCamera alone
+  double rig_rms_px = 0;        // after the bundle adjustment
 };
 
 struct CalibrationResult {
