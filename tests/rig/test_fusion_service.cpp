@@ -145,3 +145,25 @@ TEST_CASE("views laid out by camera index for carving") {
   fa.flush();
   CHECK(calls == 1);
 }
+
+TEST_CASE("service command line: --help exits 0 before anything opens; bad options exit 2") {
+  const auto run = [](const std::vector<const char*>& options) {
+    std::vector<const char*> args{"fusion-host-test"};
+    args.reserve(options.size() + 1);
+    for (const char* o : options) args.push_back(o);
+    bool built = false;
+    const int rc = fusion::service_main(static_cast<int>(args.size()), const_cast<char**>(args.data()), "fusion-host-test",
+                                        [&built](const Rig&, const fusion::PipelineOptions&) -> std::unique_ptr<fusion::FramePipeline> {
+                                          built = true;
+                                          return nullptr;
+                                        });
+    CHECK_FALSE(built);
+    return rc;
+  };
+  CHECK(run({"--help"}) == 0);
+  CHECK(run({"--rig", "x.yaml", "--frobnicate"}) == 2);
+  CHECK(run({"--rig", "x.yaml", "--max-open", "0"}) == 2);
+  CHECK(run({"--rig", "x.yaml", "--deadline-ms", "soon"}) == 2);
+  CHECK(run({"--deadline-from", "never", "--rig", "x.yaml"}) == 2);
+  CHECK(run({"--resolution", "128"}) == 2);  // no --rig
+}

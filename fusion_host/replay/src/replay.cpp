@@ -134,6 +134,8 @@ ReplayOptions parse_replay_args(std::span<const std::string_view> args) {
       const std::string_view v = value();
       HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
       options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+    } else if (flag == "--backend") {
+      options.fusion.backend = gpu::parse_backend(value());
     } else if (flag == "--curve-rule") {
       // CK3's curve constraint (fusion_host/thin): the thesis' rule and the two variants of the
       // thinning notes, for the comparison in fusion_host/pose/README.md.
@@ -150,7 +152,7 @@ ReplayOptions parse_replay_args(std::span<const std::string_view> args) {
     } else {
       HULLPOSE_THROW("unknown option '" << flag
                                         << "' (usage: --replay DIR --out FILE [--resolution N] [--frames N] "
-                                           "[--threads N] [--skeletoniser ck3|d6i1d] [--curve-rule "
+                                           "[--threads N] [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
                                            "ck3|isthmus|endvoxel] [--timings FILE])");
     }
   }

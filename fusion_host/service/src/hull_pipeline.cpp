@@ -59,6 +59,7 @@ std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const Pipeline
   FusionOptions f;
   f.resolution = options.resolution;
   f.tolerance = options.tolerance;
+  f.backend = gpu::parse_backend(options.backend);
   return std::make_unique<HullPipeline>(rig, f, std::make_unique<PoseEstimatorStage>(), nullptr);
 }
 

@@ -2,8 +2,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
 #include "hullpose/fusion_host/fusion_service.hpp"
@@ -22,38 +24,42 @@ struct Options {
   PipelineOptions pipeline;
 };
 
-Options parse(int argc, char** argv) {
-  static const char* usage =
-      " --rig FILE [--lcm-url URL] [--min-cameras N] [--deadline-ms MS] [--deadline-from first|trigger]"
-      " [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] [--resolution N] [--tolerance K]";
+constexpr const char* kUsage =
+    " --rig FILE [--lcm-url URL] [--min-cameras N] [--deadline-ms MS] [--deadline-from first|trigger]\n"
+    "    [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] [--resolution N]\n"
+    "    [--tolerance K] [--backend auto|cpu|cuda]\n"
+    "  or, offline: --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
+    "    [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel] [--timings FILE]\n";
+
+// Empty when --help was asked for.
+std::optional<Options> parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      HULLPOSE_THROW_UNLESS(i + 1 < argc, "option " << a << " needs a value; usage:" << usage);
-      return argv[++i];
-    };
-    try {
-      if (a == "--rig") o.rig_file = value();
-      else if (a == "--lcm-url") o.lcm_url = value();
-      else if (a == "--min-cameras") o.service.assembler.min_cameras = std::stoi(value());
-      else if (a == "--deadline-ms") o.service.assembler.deadline_us = static_cast<int64_t>(std::stod(value()) * 1000);
-      else if (a == "--max-open") o.service.assembler.max_open = static_cast<size_t>(std::stoul(value()));
-      else if (a == "--duration-s") o.duration_s = std::stod(value());
-      else if (a == "--ready-file") o.ready_file = value();
-      else if (a == "--resolution") o.pipeline.resolution = std::stoi(value());
-      else if (a == "--tolerance") o.pipeline.tolerance = std::stoi(value());
-      else if (a == "--max-clock-skew-ms") o.service.assembler.max_clock_skew_us = static_cast<int64_t>(std::stod(value()) * 1000);
-      else if (a == "--deadline-from") {
-        const std::string v = value();
+  AssemblerConfig& a = o.service.assembler;
+  const auto ms_to_us = [](int64_t& out, const char* name) {
+    return [&out, name](const std::string& v) { out = static_cast<int64_t>(cli::parse_double(name, v) * 1000); };
+  };
+  cli::CommandLine cl(kUsage);
+  cl.option("--rig", o.rig_file)
+      .option("--lcm-url", o.lcm_url)
+      .option("--min-cameras", a.min_cameras)
+      .option("--deadline-ms", ms_to_us(a.deadline_us, "--deadline-ms"))
+      .option("--max-clock-skew-ms", ms_to_us(a.max_clock_skew_us, "--max-clock-skew-ms"))
+      .option("--max-open", [&a](const std::string& v) {
+        const long long n = cli::parse_integer("--max-open", v);
+        HULLPOSE_THROW_UNLESS(n > 0, "--max-open must be positive, got " << n);
+        a.max_open = static_cast<size_t>(n);
+      })
+      .option("--duration-s", o.duration_s)
+      .option("--ready-file", o.ready_file)
+      .option("--resolution", o.pipeline.resolution)
+      .option("--tolerance", o.pipeline.tolerance)
+      .option("--backend", o.pipeline.backend)
+      .option("--deadline-from", [&a](const std::string& v) {
         HULLPOSE_THROW_UNLESS(v == "first" || v == "trigger", "--deadline-from must be first or trigger, got '" << v << "'");
-        o.service.assembler.deadline_from = v == "first" ? DeadlineFrom::kFirstArrival : DeadlineFrom::kTrigger;
-      } else HULLPOSE_THROW("unknown option '" << a << "'; usage:" << usage);
-    } catch (const std::logic_error&) {
-      HULLPOSE_THROW("option " << a << ": '" << argv[i] << "' is not a number");
-    }
-  }
-  HULLPOSE_THROW_UNLESS(!o.rig_file.empty(), "--rig FILE is required; usage:" << usage);
+        a.deadline_from = v == "first" ? DeadlineFrom::kFirstArrival : DeadlineFrom::kTrigger;
+      });
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  HULLPOSE_THROW_UNLESS(!o.rig_file.empty(), "--rig FILE is required (see --help)");
   return o;
 }
 }  // namespace
@@ -62,7 +68,12 @@ int service_main(int argc, char** argv, const char* tool,
                  const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline) {
   try {
     if (const char* spec = std::getenv("HULLPOSE_LOG")) log::set_levels(spec);
-    const Options o = parse(argc, argv);
+    const std::optional<Options> parsed = parse(argc, argv);
+    if (!parsed) {
+      std::printf("usage: %s%s", tool, kUsage);
+      return 0;
+    }
+    const Options& o = *parsed;
     const Rig rig = load_rig(o.rig_file);
     lcm::LCM bus(o.lcm_url);
     HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");

@@ -77,11 +77,12 @@ class FusionService {
 struct PipelineOptions {
   int resolution = 128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
   int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
+  std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
-// --duration-s S, --ready-file FILE, and the PipelineOptions): builds the pipeline with
+// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the pipeline with
 // `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
 // Returns the process exit code; errors print "<tool>: error: ..." and return 2.
 int service_main(int argc, char** argv, const char* tool,
