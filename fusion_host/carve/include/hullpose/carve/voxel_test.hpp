@@ -11,13 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#ifndef HULLPOSE_HD
-#ifdef __CUDACC__
-#define HULLPOSE_HD __host__ __device__
-#else
-#define HULLPOSE_HD
-#endif
-#endif
+#include "hullpose/common/host_device.hpp"
 
 namespace hullpose::carve {
 

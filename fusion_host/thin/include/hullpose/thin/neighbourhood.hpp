@@ -9,13 +9,7 @@
 // offset (dx, dy, dz); the centre is bit 13.
 #include <cstdint>
 
-#ifndef HULLPOSE_HD
-#ifdef __CUDACC__
-#define HULLPOSE_HD __host__ __device__
-#else
-#define HULLPOSE_HD
-#endif
-#endif
+#include "hullpose/common/host_device.hpp"
 
 namespace hullpose::thin::nb {
 
