@@ -91,6 +91,14 @@ struct ScriptedTrigger final : FrameTrigger {
     seen->push_back(k);
     return TriggerStamp{2 * k, 1'700'000'000'000'000 + k, 0, 1'700'000'000'000'000 + k + 200};
   }
+  // Free-running: every other frame is chosen, one frame late (the next frame shows it was the
+  // nearest); at frame 5 also a frame that was never held.
+  void offer(const Frame& f, std::vector<std::pair<int64_t, TriggerStamp>>& decided) override {
+    seen->push_back(f.sequence);
+    decided.clear();
+    if (f.sequence % 2 == 1) decided.emplace_back(f.sequence - 1, TriggerStamp{2000 + f.sequence - 1, f.capture_utime});
+    if (f.sequence == 5) decided.emplace_back(-7, TriggerStamp{2007, f.capture_utime});
+  }
   void report(std::vector<std::pair<std::string, int64_t>>&) const override {}
 };
 
@@ -143,4 +151,24 @@ TEST_CASE("node configuration errors name the file and the field") {
   CHECK_THROWS_WITH(CameraNode(load_node_config(cfg)), Catch::Contains("camera_id: camera 5 is not in the rig file"));
   const fs::path bad_url = test::write_node_config(dataset(), 1, "sobs", "nosuch://x");
   CHECK_THROWS_WITH(CameraNode(load_node_config(bad_url)), Catch::Contains("lcm.url: cannot open LCM at 'nosuch://x'"));
+}
+
+TEST_CASE("run() publishes a free-running camera's frames that the trigger layer chose, from the kept copies") {
+  SourceRegistry sources = SourceRegistry::builtin();
+  sources.add("file", [](const Params& p, const SourceContext& c) {
+    auto s = std::make_unique<SelfExposing>();
+    s->inner = SourceRegistry::builtin().create("file", p, c);
+    return s;
+  });
+  NodeConfig config = load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://"));
+  config.trigger.free_running = true;
+  std::vector<int64_t> seen;
+  CameraNode node(std::move(config), sources, std::make_unique<ScriptedTrigger>(&seen));
+  node.start();
+  const std::atomic<bool> stop{false};
+  node.run(stop);
+  CHECK(seen == std::vector<int64_t>{0, 1, 2, 3, 4, 5});
+  CHECK(node.frames_processed() == 3);  // frames 0, 2 and 4
+  CHECK(node.counters().get("nearest_frame_gone") == 1);
+  CHECK(node.counters().get("no_trigger") == 0);
 }

@@ -130,6 +130,7 @@ TEST_CASE("the trigger section names the input and is checked field by field") {
   CHECK(g.trigger.max_residual_us == 3000);
   CHECK(g.trigger.wait_ms == 20);
   CHECK(g.trigger.clock_offset_ms == 0);
+  CHECK_FALSE(g.trigger.free_running);
 
   const NodeConfig w = load_node_config(write("wire.yaml", std::string(kGood) + "trigger: { edges: wire, path: run/wire.sock, "
                                                                                 "channel: TRIG2, clock_offset_ms: -2000 }\n"));
@@ -144,6 +145,10 @@ TEST_CASE("the trigger section names the input and is checked field by field") {
   CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: -1\n"), Catch::Contains("trigger.line: must be in [0, 65535]"));
   CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: 1\n  path: x\n"), Catch::Contains("trigger.path: only for edges: wire"));
   CHECK_THAT(with("  edges: wire\n"), Catch::Contains("trigger.path: missing (required)"));
+  CHECK(load_node_config(write("free.yaml", std::string(kGood) + "trigger: { edges: wire, path: w, camera: free_running }\n"))
+            .trigger.free_running);
+  CHECK_THAT(with("  edges: wire\n  path: w\n  camera: sometimes\n"),
+             Catch::Contains("trigger.camera: 'sometimes' is not triggered or free_running"));
   CHECK_THAT(with("  edges: wire\n  path: w.sock\n  line: 3\n"), Catch::Contains("trigger.line: only for edges: gpiod"));
   CHECK_THAT(with("  edges: wire\n  path: w.sock\n  wait_ms: 99999\n"), Catch::Contains("trigger.wait_ms: must be in [0, 10000]"));
   CHECK_THAT(with("  edges: wire\n  path: w.sock\n  mode: nearest\n"), Catch::Contains("trigger.mode: unknown field"));

@@ -412,3 +412,53 @@ TEST_CASE("trigger client: TRIGGER over LCM + edges tag each externally triggere
   CHECK(tagged >= 36);  // the first frames come before the offset is learnt
   CHECK(client.counters().get("malformed_trigger") == 1);
 }
+
+TEST_CASE("trigger client: a free-running camera's nearest frame to each edge is handed back once decided") {
+  lcm::LCM bus("memq://");
+  REQUIRE(bus.good());
+  SimEdgeSource edges;
+  NodeClock clock{0};
+  ListenerConfig cfg;
+  cfg.rig_id = "rigA";
+  const int64_t frame_interval = 16'000;  // ~62.5 fps, not locked to the trigger
+  cfg.matcher.max_residual_us = frame_interval / 2;
+  int64_t node_now = 0;
+  TriggerClient client(bus, edges, cfg, clock, "TRIGGER", [&] { return node_now; });
+  const int64_t real_minus_mono = hullpose::realtime_utime() - hullpose::monotonic_us();
+  const int64_t master0 = 1'700'000'000'000'000, node_minus_master = 5'000'000'000;
+  hullpose_msg::trigger_t t{};
+  t.rig_id = "rigA";
+  t.period_us = static_cast<int32_t>(kPeriod);
+  t.epoch = 3;
+  std::vector<int64_t> frames;  // node clock
+  for (int i = 0; i < 100; ++i) frames.push_back(master0 + node_minus_master + 3'000 + i * frame_interval);
+  std::vector<TaggedFrame> decided, all;
+  int k = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    bool announced = false;
+    for (; k < 40 && master0 + k * kPeriod + node_minus_master <= frames[i]; ++k) {  // edges before this frame
+      t.seq = 500 + k;
+      t.utime = master0 + k * kPeriod;
+      edges.push(t.utime + node_minus_master);
+      bus.publish("TRIGGER", &t);
+      node_now = t.utime + node_minus_master + 1200;  // the announcement's arrival
+      announced = true;
+    }
+    if (!announced) node_now = frames[i];
+    client.offer(static_cast<int64_t>(i), frames[i] + real_minus_mono, decided);
+    for (const TaggedFrame& d : decided) {
+      CHECK(d.frame_id <= static_cast<int64_t>(i));  // never a frame not seen yet
+      all.push_back(d);
+    }
+  }
+  REQUIRE(all.size() >= 30);  // the first edges come before the offset is learnt
+  for (const TaggedFrame& d : all) {
+    const int64_t edge = d.edge.edge_us;
+    int64_t best = frames[0];
+    for (int64_t f : frames)
+      if (std::llabs(f - edge) < std::llabs(best - edge)) best = f;
+    CHECK(std::llabs(d.frame_us - best) <= 2);
+    CHECK(std::llabs(d.residual_us) <= frame_interval / 2 + 2);
+    CHECK(d.edge.seq == 500 + (d.edge.utime - master0) / kPeriod);
+  }
+}

@@ -164,7 +164,7 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
   if (Reader::present(trigger)) {
     TriggerConfig& t = c.trigger;
     t.enabled = true;
-    r.only_keys(trigger, "trigger", {"edges", "chip", "line", "path", "channel", "max_residual_us", "wait_ms",
+    r.only_keys(trigger, "trigger", {"edges", "chip", "line", "path", "camera", "channel", "max_residual_us", "wait_ms",
                                      "connect_timeout_ms", "clock_offset_ms"});
     const std::string edges = r.string(trigger, "edges", "trigger", true);
     const auto only_for = [&](const char* key, const char* kind) {
@@ -186,6 +186,10 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
       HULLPOSE_THROW(r.where("trigger.edges") << ": unknown trigger input '" << edges
                                               << "' (gpiod: the trigger GPIO; wire: a simulated rig's wire)");
     }
+    const std::string camera = r.string(trigger, "camera", "trigger", false, "triggered");
+    HULLPOSE_THROW_UNLESS(camera == "triggered" || camera == "free_running",
+                          r.where("trigger.camera") << ": '" << camera << "' is not triggered or free_running");
+    t.free_running = camera == "free_running";
     t.channel = r.string(trigger, "channel", "trigger", false, t.channel);
     t.max_residual_us = r.integer(trigger, "max_residual_us", "trigger", false, t.max_residual_us, 1, 1'000'000);
     t.wait_ms = r.integer(trigger, "wait_ms", "trigger", false, t.wait_ms, 0, 10'000);

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
 #include "hullpose/camera_node/trigger_stage.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
@@ -167,6 +169,7 @@ const cv::Mat& CameraNode::process(const Frame& frame, const TriggerStamp& stamp
 void CameraNode::run(const std::atomic<bool>& stop_requested) {
   constexpr int kWaitMs = 200;  // how often the stop flag is looked at while nothing comes
   const bool exposes_on_trigger = trigger_ && source_->triggerable();
+  if (trigger_ && config_.trigger.free_running) return run_free_running(stop_requested);
   Frame frame;
   while (!stop_requested.load(std::memory_order_relaxed)) {
     std::optional<TriggerStamp> stamp;
@@ -189,6 +192,30 @@ void CameraNode::run(const std::atomic<bool>& stop_requested) {
     }
     process(frame, *stamp);
     if (exposes_on_trigger) source_->prepare(stamp->seq + 1);  // the next trigger's, usually
+  }
+}
+
+void CameraNode::run_free_running(const std::atomic<bool>& stop_requested) {
+  constexpr int kWaitMs = 200;
+  Frame frame;
+  for (int64_t n = 0; !stop_requested.load(std::memory_order_relaxed);) {
+    const GrabStatus s = capture(frame, kWaitMs);
+    if (s == GrabStatus::kEndOfStream) break;
+    if (s == GrabStatus::kTimeout) continue;
+    // The source reuses its buffer at the next grab: keep a copy until the choice is made.
+    Frame& kept = held_[static_cast<size_t>(n++) % kHeldFrames];
+    frame.image.copyTo(kept.image);
+    kept.sequence = frame.sequence;
+    kept.capture_utime = frame.capture_utime;
+    trigger_->offer(kept, decided_);
+    for (const auto& [sequence, stamp] : decided_) {
+      const auto it = std::find_if(held_.begin(), held_.end(), [&](const Frame& f) { return f.sequence == sequence && !f.image.empty(); });
+      if (it == held_.end()) {
+        counters_.add("nearest_frame_gone");  // chosen after kHeldFrames newer frames came
+        continue;
+      }
+      process(*it, stamp);
+    }
   }
 }
 

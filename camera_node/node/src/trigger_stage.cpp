@@ -1,5 +1,7 @@
 #include "hullpose/camera_node/trigger_stage.hpp"
 
+#include <algorithm>
+
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
@@ -58,12 +60,29 @@ std::optional<TriggerStamp> TriggerStage::next_instant(int timeout_ms) {
   return s;
 }
 
+void TriggerStage::offer(const Frame& frame, std::vector<std::pair<int64_t, TriggerStamp>>& decided) {
+  HULLPOSE_ASSERT(client_);
+  client_->offer(frame.sequence, frame.capture_utime, tagged_);
+  decided.clear();
+  for (const trigger::TaggedFrame& t : tagged_) {
+    decided.emplace_back(t.frame_id, to_stamp(t, 0));
+    const int64_t r = t.residual_us < 0 ? -t.residual_us : t.residual_us;
+    ++residual_count_;
+    residual_abs_sum_us_ += r;
+    residual_abs_max_us_ = std::max(residual_abs_max_us_, r);
+  }
+}
+
 void TriggerStage::report(std::vector<std::pair<std::string, int64_t>>& out) const {
   if (!client_) return;
   const trigger::TriggerListener& l = client_->listener();
   out.emplace_back("trigger_synced", l.mapper().synced() ? 1 : 0);
   out.emplace_back("trigger_offset_us", l.mapper().offset_us());
   out.emplace_back("trigger_foreign", l.foreign_announcements());
+  if (residual_count_ > 0) {
+    out.emplace_back("trigger_residual_mean_us", residual_abs_sum_us_ / residual_count_);
+    out.emplace_back("trigger_residual_max_us", residual_abs_max_us_);
+  }
   for (const Counters* c : {&l.mapper().counters(), &l.matcher().counters(), &client_->counters()})
     for (const auto& [name, value] : c->snapshot()) out.emplace_back("trigger_" + name, value);
 }

@@ -53,10 +53,21 @@ bool TriggerClient::pump(int wait_ms, Done&& done) {
   }
 }
 
-std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
+int64_t TriggerClient::to_node_clock(int64_t frame_utime) const {
   // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
-  const int64_t frame_us = frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
-  listener_.on_frame(frame_id, frame_us);
+  return frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
+}
+
+void TriggerClient::offer(int64_t frame_id, int64_t frame_utime, std::vector<TaggedFrame>& decided) {
+  listener_.on_frame(frame_id, to_node_clock(frame_utime));
+  tagged_.clear();
+  pump(0, [](size_t) { return true; });
+  decided.assign(tagged_.begin(), tagged_.end());
+  tagged_.clear();
+}
+
+std::optional<TaggedFrame> TriggerClient::tag(int64_t frame_id, int64_t frame_utime, int wait_ms) {
+  listener_.on_frame(frame_id, to_node_clock(frame_utime));
   std::optional<TaggedFrame> found;
   tagged_.clear();
   pump(wait_ms, [&](size_t from) {

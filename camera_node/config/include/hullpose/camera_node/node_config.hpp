@@ -75,6 +75,10 @@ struct TriggerConfig {
   bool enabled = false;          // a trigger: section is present
   std::string edges;             // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
   std::string channel = "TRIGGER";
+  // trigger.camera: "triggered" (the sensor exposes on the trigger line; default) or
+  // "free_running" (no trigger input on the sensor: the frame nearest each edge is published,
+  // set max_residual_us to half the frame interval).
+  bool free_running = false;
   int max_residual_us = 5000;
   int wait_ms = 50;
   int connect_timeout_ms = 10000;

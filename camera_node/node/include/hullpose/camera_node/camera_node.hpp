@@ -13,13 +13,15 @@
 // The trigger layer (camera_node/trigger, through TriggerStage) sits behind FrameTrigger: a camera
 // that exposes on the trigger line has each frame stamped with its edge (stamp()); a simulated
 // sensor (FrameSource::triggerable) waits for the next trigger instant (next_instant()) and
-// exposes that instant's frame, exactly one per edge. Without a trigger the node is free-running:
+// exposes that instant's frame, exactly one per edge; a free-running camera (trigger.camera:
+// free_running) keeps its last few frames and publishes the one nearest each edge (offer()). Without a trigger the node is free-running:
 // trigger_seq = frame.sequence, trigger utime = frame.capture_utime. A frame without a trigger
 // instant is dropped, counted "no_trigger".
 //
 // One step at a time, as run() does it: node.capture(frame, timeout_ms); node.process(frame, stamp).
 // capture() and process() must be called from one thread (the capture thread). Statistics go on
 // the STATUS channel every lcm.status_period_ms and once more at stop().
+#include <array>
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -58,6 +60,10 @@ class FrameTrigger {
   virtual std::optional<TriggerStamp> stamp(const Frame& frame) = 0;
   // A simulated sensor: the next trigger instant, waiting up to timeout_ms; std::nullopt if none.
   virtual std::optional<TriggerStamp> next_instant(int timeout_ms) = 0;
+  // A free-running camera (config trigger.camera: free_running): takes `frame` and returns at
+  // once, in `decided`, the frames (by Frame::sequence, this one or earlier) now chosen as nearest
+  // to a trigger edge, with that edge's stamp.
+  virtual void offer(const Frame& frame, std::vector<std::pair<int64_t, TriggerStamp>>& decided) = 0;
   // Counters and state for STATUS and the log (mapping drops, clock offset).
   virtual void report(std::vector<std::pair<std::string, int64_t>>& out) const = 0;
 };
@@ -94,6 +100,7 @@ class CameraNode {
 
  private:
   void learn_background();
+  void run_free_running(const std::atomic<bool>& stop_requested);
   void maybe_publish_status(bool force, int8_t state, const std::string& message);
 
   NodeConfig config_;
@@ -108,6 +115,10 @@ class CameraNode {
   std::unique_ptr<SilhouettePublisher> publisher_;
   std::unique_ptr<FrameTrigger> trigger_;
   cv::Mat mask_, roi_mask_;
+  // Free-running camera: the last frames, until the trigger layer has chosen among them.
+  static constexpr size_t kHeldFrames = 4;
+  std::array<Frame, kHeldFrames> held_;
+  std::vector<std::pair<int64_t, TriggerStamp>> decided_;
   bool started_ = false;
   int32_t last_capture_us_ = 0;
 

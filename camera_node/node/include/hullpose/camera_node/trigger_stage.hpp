@@ -23,6 +23,7 @@ class TriggerStage final : public FrameTrigger {
   void start() override;
   std::optional<TriggerStamp> stamp(const Frame& frame) override;
   std::optional<TriggerStamp> next_instant(int timeout_ms) override;
+  void offer(const Frame& frame, std::vector<std::pair<int64_t, TriggerStamp>>& decided) override;
   void report(std::vector<std::pair<std::string, int64_t>>& out) const override;
 
  private:
@@ -36,6 +37,9 @@ class TriggerStage final : public FrameTrigger {
   std::unique_ptr<lcm::LCM> bus_;
   std::unique_ptr<trigger::EdgeSource> edges_;
   std::unique_ptr<trigger::TriggerClient> client_;
+  std::vector<trigger::TaggedFrame> tagged_;
+  // Free-running camera: how far the chosen frames were from their edges (sensor - edge).
+  int64_t residual_count_ = 0, residual_abs_sum_us_ = 0, residual_abs_max_us_ = 0;
 };
 
 }  // namespace hullpose::camera_node

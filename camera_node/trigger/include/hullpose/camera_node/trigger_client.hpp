@@ -11,8 +11,8 @@
 // A simulated sensor (ListenerConfig::expose_after_edge_us >= 0) exposes at every edge by itself:
 // next_exposure() hands out its frames, tagged, one per edge, and the source then renders them.
 // A client serves one kind of camera: use tag() or next_exposure(), not both.
-// A free-running camera needs the frames after an edge to choose the nearest one, so it keeps a
-// few frames and uses TriggerListener directly.
+// A free-running camera needs the frames after an edge to choose the nearest one: offer() each
+// frame, keep the last few, and publish the ones it hands back.
 #include <lcm/lcm-cpp.hpp>
 #include <functional>
 #include <optional>
@@ -35,6 +35,11 @@ class TriggerClient {
   // node's realtime clock. Handles TRIGGER messages and edges until the frame's edge is mapped
   // or wait_ms passes; std::nullopt if it belongs to no trigger edge (counted).
   std::optional<TaggedFrame> tag(int64_t frame_id, int64_t frame_utime, int wait_ms);
+  // Free-running camera: hands the frame to the matcher and returns at once with every frame
+  // (this one or earlier) now chosen as the nearest to an edge, oldest edge first. A frame is
+  // decided once a later frame has been seen or max_residual_us has passed, so the caller keeps
+  // the last few frames until then.
+  void offer(int64_t frame_id, int64_t frame_utime, std::vector<TaggedFrame>& decided);
   // Simulated sensor: the next frame it exposed, tagged (frame_us on the node clock), oldest
   // first; at most kSensorBuffers wait, older ones are dropped, counted "overrun". Handles
   // TRIGGER messages and edges for up to wait_ms; std::nullopt if none is tagged by then.
@@ -46,6 +51,7 @@ class TriggerClient {
 
  private:
   void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  int64_t to_node_clock(int64_t frame_utime) const;
   // Handles what is pending on the bus and the trigger input, then waits for either, until
   // `done` (which sees the newly tagged frames) says so or wait_ms passes.
   template <class Done>
