@@ -110,15 +110,20 @@ struct SelfExposing final : FrameSource {
   void stop() override { inner->stop(); }
   std::string describe() const override { return "self-exposing " + inner->describe(); }
 };
-}  // namespace
 
-TEST_CASE("run() stamps a self-exposing camera's frames through the trigger and counts frames without one") {
+SourceRegistry self_exposing_sources() {
   SourceRegistry sources = SourceRegistry::builtin();
   sources.add("file", [](const Params& p, const SourceContext& c) {
     auto s = std::make_unique<SelfExposing>();
     s->inner = SourceRegistry::builtin().create("file", p, c);
     return s;
   });
+  return sources;
+}
+}  // namespace
+
+TEST_CASE("run() stamps a self-exposing camera's frames through the trigger and counts frames without one") {
+  const SourceRegistry sources = self_exposing_sources();
   std::vector<int64_t> seen;
   CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")), sources,
                   std::make_unique<ScriptedTrigger>(&seen));
@@ -154,12 +159,7 @@ TEST_CASE("node configuration errors name the file and the field") {
 }
 
 TEST_CASE("run() publishes a free-running camera's frames that the trigger layer chose, from the kept copies") {
-  SourceRegistry sources = SourceRegistry::builtin();
-  sources.add("file", [](const Params& p, const SourceContext& c) {
-    auto s = std::make_unique<SelfExposing>();
-    s->inner = SourceRegistry::builtin().create("file", p, c);
-    return s;
-  });
+  const SourceRegistry sources = self_exposing_sources();
   NodeConfig config = load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://"));
   config.trigger.free_running = true;
   std::vector<int64_t> seen;
