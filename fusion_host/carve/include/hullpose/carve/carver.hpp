@@ -12,16 +12,17 @@
 //   skipped and reported; with no more than k cameras present the hull is empty and not valid.
 //
 // Fast path (hierarchical, conservative, exact): per rig and resolution, the Carver projects
-// every voxel centre once and stores, for the nodes of a 3-level octree of voxel blocks, the
-// bounding rectangle of the pixels of their voxel centres in every camera. Per frame it builds
-// an integral image of each silhouette's foreground box, then classifies nodes per camera as all
-// inside (the rectangle is all foreground), all outside (no foreground) or mixed, counts misses
-// and only descends into nodes that are still undecided. Voxels of undecided finest nodes are
-// tested camera by camera at their pixel, read from a per-voxel table computed at construction
-// with the same projection as the reference (2 bytes per voxel and camera, up to 64 MiB: 128³
-// with 8 cameras), or projected on the fly beyond that. Either way the result equals
-// carve_brute_force() voxel for voxel by construction (checked in tests/fusion/test_carve,
-// test_carve_large and test_cmu at 64³, 128³ and 256³). Resolutions up to 575.
+// every voxel centre once and stores, for the nodes of a 4-level octree of voxel blocks (4³
+// voxels and up), the bounding rectangle of the pixels of their voxel centres in every camera.
+// Per frame it counts, down each column of each silhouette's foreground box, the foreground
+// pixels (ColumnCounts), then classifies nodes per camera as all inside (the rectangle is all
+// foreground), all outside (no foreground) or mixed, counts misses and only descends into nodes
+// that are still undecided. Voxels of undecided finest nodes are tested camera by camera at
+// their pixel, read from a per-voxel table computed at construction with the same projection as
+// the reference (2 bytes per voxel and camera, up to 64 MiB: 128³ with 8 cameras), or projected
+// on the fly beyond that. Either way the result equals carve_brute_force() voxel for voxel by
+// construction (checked in tests/fusion/test_carve, test_carve_large and test_cmu at 64³, 128³
+// and 256³). Resolutions up to 575.
 //
 // Lifecycle: construct once per (rig, resolution, tolerance); carve() per frame reuses all
 // buffers (no allocation at steady state).
