@@ -2,17 +2,14 @@
 // fusion_host/service) by default; `--replay DIR --out FILE` runs the offline pipeline over a
 // dataset instead.
 #include <iostream>
-#include <string_view>
-#include <vector>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/fusion_host/hull_pipeline.hpp"
 #include "hullpose/replay/replay.hpp"
 
 int main(int argc, char** argv) {
-  const std::vector<std::string_view> args(argv + 1, argv + argc);
   try {
-    if (hullpose::replay::is_replay_command(args)) return hullpose::replay::replay_cli(args);
+    if (hullpose::replay::is_replay_command(argc, argv)) return hullpose::replay::replay_cli(argc, argv);
   } catch (const hullpose::Error& e) {
     std::cerr << "hullpose-fusion-host: error: " << e.what() << "\n";
     return 2;

@@ -14,8 +14,12 @@ using namespace hullpose;
 
 namespace {
 
-replay::ReplayOptions parse(std::vector<std::string_view> args) {
-  return replay::parse_replay_args(args);
+replay::ReplayOptions parse(std::initializer_list<const char*> args) {
+  std::vector<const char*> argv{"hullpose-fusion-host"};
+  for (const char* a : args) argv.push_back(a);
+  const auto options = replay::parse_replay_args(static_cast<int>(argv.size()), argv.data());
+  REQUIRE(options);
+  return *options;
 }
 
 std::filesystem::path temp_dir(const std::string& name) {
@@ -38,6 +42,10 @@ TEST_CASE("--curve-rule selects CK3's curve constraint, ck3 by default") {
   CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--curve-rule", "ultimate"}),
                     Catch::Contains("expected ck3, isthmus or endvoxel"));
   CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--curve-rule"}), Catch::Contains("needs a value"));
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--frames", "ten"}), Catch::Contains("--frames"));
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--bogus"}), Catch::Contains("unknown option '--bogus'"));
+  const char* help[] = {"hullpose-fusion-host", "--replay", "d", "--help"};
+  CHECK_FALSE(replay::parse_replay_args(4, help));
   CHECK(parse({"--replay", "d", "--out", "e.csv", "--skeletoniser", "d6i1d"}).fusion.skeletoniser ==
         fusion::Skeletoniser::kD6i1d);
   CHECK_THROWS_WITH(parse({"--replay", "d"}), Catch::Contains("both needed"));
@@ -55,8 +63,8 @@ TEST_CASE("a replay runs with every curve rule and writes one estimate per frame
   for (const char* rule : {"ck3", "isthmus", "endvoxel"}) {
     INFO("rule " << rule);
     const std::string out = (dir / (std::string(rule) + ".csv")).string();
-    replay::ReplayOptions options = replay::parse_replay_args(std::vector<std::string_view>{
-        "--replay", config.out.c_str(), "--out", out, "--resolution", "64", "--curve-rule", rule});
+    const replay::ReplayOptions options =
+        parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution", "64", "--curve-rule", rule});
     const replay::ReplaySummary s = replay::run_replay(options);
     CHECK(s.frames == 2);
     if (std::string_view(rule) == "ck3") CHECK(s.valid >= 1);

@@ -1,7 +1,6 @@
 #include "hullpose/replay/replay.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
 #include "hullpose/common/dataset.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/rig.hpp"
@@ -24,14 +24,6 @@ double median(std::vector<double> v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
-}
-
-int parse_int(std::string_view flag, std::string_view value) {
-  int out = 0;
-  const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
-  HULLPOSE_THROW_UNLESS(ec == std::errc() && ptr == value.data() + value.size(),
-                        flag << ": expected an integer, got '" << value << "'");
-  return out;
 }
 
 }  // namespace
@@ -105,63 +97,59 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   return summary;
 }
 
-bool is_replay_command(std::span<const std::string_view> args) {
-  return std::find(args.begin(), args.end(), "--replay") != args.end();
+bool is_replay_command(int argc, const char* const* argv) {
+  return std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--replay"; });
 }
 
-ReplayOptions parse_replay_args(std::span<const std::string_view> args) {
+std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv) {
   ReplayOptions options;
   options.fusion.resolution = 128;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string_view flag = args[i];
-    auto value = [&]() -> std::string_view {
-      HULLPOSE_THROW_UNLESS(i + 1 < args.size(), flag << " needs a value");
-      return args[++i];
-    };
-    if (flag == "--replay") {
-      options.dataset = value();
-    } else if (flag == "--out") {
-      options.out = value();
-    } else if (flag == "--timings") {
-      options.timings = value();
-    } else if (flag == "--resolution") {
-      options.fusion.resolution = parse_int(flag, value());
-    } else if (flag == "--frames") {
-      options.max_frames = parse_int(flag, value());
-    } else if (flag == "--threads") {
-      options.fusion.threads = parse_int(flag, value());
-    } else if (flag == "--skeletoniser") {
-      const std::string_view v = value();
-      HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
-      options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
-    } else if (flag == "--backend") {
-      options.fusion.backend = gpu::parse_backend(value());
-    } else if (flag == "--curve-rule") {
-      // CK3's curve constraint (fusion_host/thin): the thesis' rule and the two variants of the
-      // thinning notes, for the comparison in fusion_host/pose/README.md.
-      const std::string_view v = value();
-      if (v == "ck3") {
-        options.fusion.curve_rule = thin::CurveRule::kCk3;
-      } else if (v == "isthmus") {
-        options.fusion.curve_rule = thin::CurveRule::kIsthmus;
-      } else if (v == "endvoxel") {
-        options.fusion.curve_rule = thin::CurveRule::kEndVoxel;
-      } else {
-        HULLPOSE_THROW("--curve-rule: expected ck3, isthmus or endvoxel, got '" << v << "'");
-      }
-    } else {
-      HULLPOSE_THROW("unknown option '" << flag
-                                        << "' (usage: --replay DIR --out FILE [--resolution N] [--frames N] "
-                                           "[--threads N] [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
-                                           "ck3|isthmus|endvoxel] [--timings FILE])");
-    }
+  std::string dataset, out, timings;
+  cli::CommandLine line(
+      "usage: hullpose-fusion-host --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
+      "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel]\n"
+      "         [--timings FILE]\n"
+      "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the estimates\n"
+      "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve constraint\n"
+      "(fusion_host/pose/README.md compares them).\n");
+  line.option("--replay", dataset)
+      .option("--out", out)
+      .option("--timings", timings)
+      .option("--resolution", options.fusion.resolution)
+      .option("--frames", options.max_frames)
+      .option("--threads", options.fusion.threads)
+      .option("--skeletoniser",
+              [&](const std::string& v) {
+                HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
+                options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+              })
+      .option("--backend", [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
+      .option("--curve-rule", [&](const std::string& v) {
+        if (v == "ck3") {
+          options.fusion.curve_rule = thin::CurveRule::kCk3;
+        } else if (v == "isthmus") {
+          options.fusion.curve_rule = thin::CurveRule::kIsthmus;
+        } else if (v == "endvoxel") {
+          options.fusion.curve_rule = thin::CurveRule::kEndVoxel;
+        } else {
+          HULLPOSE_THROW("--curve-rule: expected ck3, isthmus or endvoxel, got '" << v << "'");
+        }
+      });
+  if (!line.parse(argc, argv)) {
+    std::fputs(line.usage().c_str(), stdout);
+    return std::nullopt;
   }
-  HULLPOSE_THROW_UNLESS(!options.dataset.empty() && !options.out.empty(), "--replay DIR and --out FILE are both needed");
+  HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(), "--replay DIR and --out FILE are both needed");
+  options.dataset = dataset;
+  options.out = out;
+  options.timings = timings;
   return options;
 }
 
-int replay_cli(std::span<const std::string_view> args) {
-  const ReplaySummary s = run_replay(parse_replay_args(args));
+int replay_cli(int argc, const char* const* argv) {
+  const std::optional<ReplayOptions> options = parse_replay_args(argc, argv);
+  if (!options) return 0;
+  const ReplaySummary s = run_replay(*options);
   std::printf(
       "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, \"thin\": %.3f, "
       "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",

@@ -3,8 +3,7 @@
 // carve -> thin -> pose tree -> fit, frame by frame, into the estimate file hullpose-eval reads,
 // with per-stage timings beside it. The same stages as the live service, minus the network.
 #include <filesystem>
-#include <span>
-#include <string_view>
+#include <optional>
 
 #include "hullpose/fusion/fusion_core.hpp"
 #include "hullpose/pose/pose_estimator.hpp"
@@ -30,14 +29,13 @@ struct ReplaySummary {
 // Throws hullpose::Error on a dataset that cannot be read (rig, meta, an unreadable mask).
 ReplaySummary run_replay(const ReplayOptions& options);
 
-// The options of `hullpose-fusion-host --replay DIR --out FILE [...]` (args without argv[0]);
-// throws hullpose::Error on a bad command line.
-ReplayOptions parse_replay_args(std::span<const std::string_view> args);
+// The options of `hullpose-fusion-host --replay DIR --out FILE [...]`; nullopt after printing
+// the usage for --help. Throws hullpose::Error on a bad command line.
+std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv);
 
-// `hullpose-fusion-host --replay DIR --out FILE [...]`: parses `args` (without argv[0]),
-// runs, prints a one-line JSON summary on stdout. Returns the exit status; throws
-// hullpose::Error on a bad command line.
-int replay_cli(std::span<const std::string_view> args);
-bool is_replay_command(std::span<const std::string_view> args);
+// `hullpose-fusion-host --replay DIR --out FILE [...]`: parses, runs, prints a one-line JSON
+// summary on stdout. Returns the exit status; throws hullpose::Error on a bad command line.
+int replay_cli(int argc, const char* const* argv);
+bool is_replay_command(int argc, const char* const* argv);
 
 }  // namespace hullpose::replay
