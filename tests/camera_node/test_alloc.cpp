@@ -98,7 +98,7 @@ TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates not
   config.lcm.status_period_ms = 600000;  // no STATUS (built once a period) inside the measurement
   config.lcm.queue_depth = 32;  // no drops: every frame of both passes fits
   config.post.open_radius = config.post.close_radius = 0;
-  config.post.min_blob_area = 0;
+  config.post.min_blob_area = config.post.max_hole_area = 0;
   config.source.params.set("preload", "true");
   config.source.params.set("loop", "true");
   CameraNode node(config);

@@ -134,14 +134,43 @@ TEST_CASE("clean-up removes speckle and small blobs, keeps the person and fills 
   cv::Mat mask(120, 160, CV_8UC1, cv::Scalar(0));
   cv::rectangle(mask, cv::Rect(40, 20, 30, 80), cv::Scalar(255), -1);  // person
   mask.at<uint8_t>(50, 55) = 0;                                        // pinhole
+  mask(cv::Rect(45, 70, 3, 3)).setTo(0);                               // a larger pinhole (9 px)
   mask.at<uint8_t>(5, 5) = 255;                                        // speckle
   cv::rectangle(mask, cv::Rect(120, 100, 5, 5), cv::Scalar(255), -1);  // small blob (25 px)
-  MaskCleanup cleanup({1, 2, 50});
+  MaskCleanup cleanup({1, 0, 50, 16});
   cleanup.apply(mask);
   CHECK(mask.at<uint8_t>(50, 55) == 255);
+  CHECK(cv::countNonZero(mask(cv::Rect(45, 70, 3, 3))) == 9);
   CHECK(mask.at<uint8_t>(5, 5) == 0);
   CHECK(cv::countNonZero(mask(cv::Rect(115, 95, 15, 15))) == 0);
   CHECK(cv::countNonZero(mask(cv::Rect(40, 20, 30, 80))) > 30 * 80 - 10);
+}
+
+TEST_CASE("clean-up fills enclosed holes only: the gaps between limbs stay open, unlike with closing") {
+  // Legs 3 px apart below a torso (the gap opens to the background below), an arm resting on
+  // the hip around a 10x10 gap of real background (enclosed, larger than max_hole_area), and a
+  // 2x2 pinhole in the torso (enclosed, small).
+  cv::Mat person(120, 160, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(person, cv::Rect(60, 10, 23, 50), cv::Scalar(255), -1);  // torso
+  cv::rectangle(person, cv::Rect(60, 60, 10, 50), cv::Scalar(255), -1);  // left leg
+  cv::rectangle(person, cv::Rect(73, 60, 10, 50), cv::Scalar(255), -1);  // right leg, 3 px gap
+  cv::rectangle(person, cv::Rect(83, 15, 16, 6), cv::Scalar(255), -1);   // upper arm
+  cv::rectangle(person, cv::Rect(93, 21, 6, 16), cv::Scalar(255), -1);   // forearm down to the hip
+  cv::rectangle(person, cv::Rect(83, 37, 16, 4), cv::Scalar(255), -1);   // hand on the hip
+  person(cv::Rect(70, 30, 2, 2)).setTo(0);                               // pinhole
+  const cv::Rect legs_gap(70, 62, 3, 45), arm_gap(83, 21, 10, 16);
+  REQUIRE(cv::countNonZero(person(arm_gap)) == 0);
+
+  cv::Mat filled = person.clone();
+  MaskCleanup({0, 0, 0, 64}).apply(filled);
+  CHECK(cv::countNonZero(filled(legs_gap)) == 0);
+  CHECK(cv::countNonZero(filled(arm_gap)) == 0);  // 160 px: more than max_hole_area
+  CHECK(cv::countNonZero(filled(cv::Rect(70, 30, 2, 2))) == 4);
+  CHECK(cv::countNonZero(filled) == cv::countNonZero(person) + 4);
+
+  cv::Mat closed = person.clone();
+  MaskCleanup({0, 2, 0, 0}).apply(closed);
+  CHECK(cv::countNonZero(closed(legs_gap)) > 0);  // what the default avoids: the legs joined
 }
 
 TEST_CASE("the threshold method passes pre-segmented frames through unchanged") {

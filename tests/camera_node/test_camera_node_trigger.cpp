@@ -58,7 +58,7 @@ TEST_CASE("a triggered node publishes one silhouette per trigger edge, showing t
   std::ofstream(dir / "node.yaml") << "%YAML:1.0\ncamera_id: 0\nrig_file: rig.yaml\n"
                                    << "source: { type: file, path: cam0/seq_%06d.png }\n"
                                    << "bgs: { method: threshold, learn_frames: 1 }\n"
-                                   << "post: { open_radius: 0, close_radius: 0, min_blob_area: 0 }\n"
+                                   << "post: { open_radius: 0, close_radius: 0, min_blob_area: 0, max_hole_area: 0 }\n"
                                    << "lcm: { url: \"" << kUrl << "\", queue_depth: 16 }\n"
                                    << "trigger: { edges: wire, path: wire.sock, clock_offset_ms: " << offset_ms << " }\n";
 

@@ -70,7 +70,8 @@ TEST_CASE("a complete node config is read with every field") {
   CHECK(c.bgs.learn_frames == 12);
   CHECK(c.bgs.params.get_double("epsilon_online", 0, 0, 1) == Approx(0.01));
   CHECK(c.post.open_radius == 0);
-  CHECK(c.post.close_radius == 1);  // default kept
+  CHECK(c.post.close_radius == 0);  // default kept
+  CHECK(c.post.max_hole_area == 64);
   CHECK(c.post.min_blob_area == 10);
   CHECK(c.post.roi == cv::Rect(10, 20, 300, 200));
   CHECK(c.lcm.url == "udpm://239.255.76.67:7690?ttl=0");

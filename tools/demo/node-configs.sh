@@ -10,7 +10,7 @@
 #                       exactly the recorded ones
 #          rgb          replay RIGDIR/cam<c>/rgb_%06d.png (hullpose-synth --rgb), Horprasert
 #                       background subtraction learnt from RIGDIR/cam<c>/background_%06d.png, and
-#                       the morphological clean-up. The frames are decoded into memory at start
+#                       the clean-up (opening, small blobs, pinholes; no closing). The frames are decoded into memory at start
 #                       (1.4 MB each): decoding a noisy 800x600 PNG costs more than the background
 #                       subtraction (~12 ms), and a real sensor has no such cost.
 # RIGDIR is the folder of RIG. SOURCE_EXTRA (environment) is added to the source: mapping, e.g.
@@ -26,11 +26,11 @@ for ((c = 0; c < num; c++)); do
     masks:*)
       stage="source: { type: file, path: \"$dir/cam$c/${source#masks:}_%06d.png\"${SOURCE_EXTRA:+, $SOURCE_EXTRA} }
 bgs: { method: threshold, learn_frames: 1 }
-post: { open_radius: 0, close_radius: 0, min_blob_area: 0 }" ;;
+post: { open_radius: 0, close_radius: 0, min_blob_area: 0, max_hole_area: 0 }" ;;
     rgb)
       stage="source: { type: file, path: \"$dir/cam$c/rgb_%06d.png\", preload: true${SOURCE_EXTRA:+, $SOURCE_EXTRA} }
 bgs: { method: horprasert, learn_frames: 10, background: \"$dir/cam$c/background_%06d.png\" }
-post: { open_radius: 1, close_radius: 2, min_blob_area: 64 }" ;;
+post: { open_radius: 1, close_radius: 0, min_blob_area: 64, max_hole_area: 64 }" ;;
     *) echo "node-configs: unknown SOURCE '$source' (masks:STEM or rgb)" >&2; exit 2 ;;
   esac
   cat > "$out/node$c.yaml" <<YAML

@@ -20,6 +20,7 @@
 # work shares the machine) and plays the 30 fps motion slowed down to it; every trigger is fused or accounted for. The
 # host waits up to 90 % of a trigger period for a frame's views (the default, 33 ms, is for 30 Hz).
 # HULLPOSE_DEMO_FRAMES (default 90: rendering 8 RGB views per frame takes most of the demo's time).
+# HULLPOSE_DEMO_HOST_ARGS: more hullpose-fusion-host options (e.g. "--tolerance 1", "--backend cuda").
 set -euo pipefail
 build=$(cd "${1:-build}" && pwd)
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -41,7 +42,7 @@ say "camera nodes: hullpose-camera-node x $num (RGB replay, one frame per trigge
 say "fusion host: hullpose-fusion-host (carve -> clean-up -> thin -> pose tree -> fit)"
 say "starting the rig: trigger master at $rate Hz, $num camera nodes, fusion host, listener (LCM loopback, ttl=0)"
 LIVE=1 "$root/tools/demo/rig-loopback.sh" "$build" "$work" "$frames" "$rate" "$num" \
-  "$node --config $work/node{cam}.yaml" "$host --rig {rig} --min-cameras 6 --deadline-ms $(( 900 / rate ))"
+  "$node --config $work/node{cam}.yaml" "$host --rig {rig} --min-cameras 6 --deadline-ms $(( 900 / rate )) ${HULLPOSE_DEMO_HOST_ARGS:-}"
 /usr/bin/python3 - "$work/summary.json" "$frames" <<'PY'
 import json, sys
 s, frames = json.load(open(sys.argv[1])), int(sys.argv[2])

@@ -134,10 +134,11 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
 
   const cv::FileNode post = r.map(root, "post", "", false);
   if (Reader::present(post)) {
-    r.only_keys(post, "post", {"open_radius", "close_radius", "min_blob_area", "roi"});
+    r.only_keys(post, "post", {"open_radius", "close_radius", "min_blob_area", "max_hole_area", "roi"});
     c.post.open_radius = r.integer(post, "open_radius", "post", false, c.post.open_radius, 0, 32);
     c.post.close_radius = r.integer(post, "close_radius", "post", false, c.post.close_radius, 0, 32);
     c.post.min_blob_area = r.integer(post, "min_blob_area", "post", false, c.post.min_blob_area, 0, 1 << 26);
+    c.post.max_hole_area = r.integer(post, "max_hole_area", "post", false, c.post.max_hole_area, 0, 1 << 26);
     const cv::FileNode roi = post["roi"];
     if (Reader::present(roi)) {
       HULLPOSE_THROW_UNLESS(roi.isSeq() && roi.size() == 4, r.where("post.roi") << ": must be [x, y, width, height]");

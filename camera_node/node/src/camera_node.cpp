@@ -35,7 +35,8 @@ Rig load_rig_for(const NodeConfig& c) {
 CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources, std::unique_ptr<FrameTrigger> trigger)
     : config_(std::move(config)),
       rig_(load_rig_for(config_)),
-      cleanup_({config_.post.open_radius, config_.post.close_radius, config_.post.min_blob_area}) {
+      cleanup_({config_.post.open_radius, config_.post.close_radius, config_.post.min_blob_area,
+                config_.post.max_hole_area}) {
   const std::string file = config_.file.string();
   const CameraModel* cam = rig_.find(config_.camera_id);
   HULLPOSE_THROW_UNLESS(cam, file << ": camera_id: camera " << config_.camera_id << " is not in the rig file "

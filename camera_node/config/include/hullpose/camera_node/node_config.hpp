@@ -13,9 +13,10 @@
 //     background: bg/rgb_%06d.png   # optional: learn from these files instead of the first frames
 //     params: { epsilon_online: 0.008 }
 //   post:
-//     open_radius: 1                # morphological opening, then closing (pixels; 0 = off)
-//     close_radius: 1
+//     open_radius: 1                # morphological opening (pixels; 0 = off)
+//     close_radius: 0               # closing (off: it joins limbs in the hull, mask_cleanup.hpp)
 //     min_blob_area: 32             # connected components smaller than this are removed
+//     max_hole_area: 64             # enclosed background regions up to this size are filled
 //     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
@@ -58,8 +59,9 @@ struct BgsConfig {
 
 struct PostConfig {
   int open_radius = 1;
-  int close_radius = 1;
+  int close_radius = 0;
   int min_blob_area = 32;
+  int max_hole_area = 64;
   cv::Rect roi;  // empty: the whole image
 };
 
