@@ -205,7 +205,8 @@ CalibrationResult RigCalibrator::solve() const {
     return flat;
   };
 
-  // 4. Bundle adjustment over every observation, the floor board held fixed.
+  // 4. Bundle adjustment over every observation, the first floor board held fixed and the others
+  // on the floor plane.
   BundleProblem problem;
   for (int i = 0; i < options_.board.corner_count(); ++i)
     problem.board_points.push_back(options_.board.corner_mm(i));
