@@ -464,10 +464,9 @@ bool meets_issue_tolerances(const CameraError& e) {
 std::ostream& operator<<(std::ostream& out, const CameraError& e) {
   char line[200];
   std::snprintf(line, sizeof line,
-                "cam%d: fx %.3f %%, fy %.3f %%, cx %.3f px, cy %.3f px, centre %.3f mm, rotation "
-                "%.3f deg",
-                e.id, e.fx_pct, e.fy_pct, e.cx_px, e.cy_px, e.centre_mm, e.angle_deg);
-  return out << line;
+                "fx %.3f %%, fy %.3f %%, cx %.3f px, cy %.3f px, centre %.3f mm, rotation %.3f deg",
+                e.fx_pct, e.fy_pct, e.cx_px, e.cy_px, e.centre_mm, e.angle_deg);
+  return out << (e.id >= 0 ? "cam" + std::to_string(e.id) : std::string("worst")) << ": " << line;
 }
 
 std::vector<Detection> render_and_detect(const Rig& rig, const BoardSpec& board,

@@ -115,7 +115,7 @@ struct RigError {
   double gauge_angle_deg = 0;
   double gauge_tilt_deg = 0;       // of the z axis
   double gauge_mean_shift_mm = 0;  // mean distance the motion moves the true camera centres
-  // Worst over cameras of each measure (intrinsics as magnitudes).
+  // Worst over cameras of each measure (intrinsics as magnitudes); id -1.
   CameraError worst(bool relative_frame = false) const;
 };
 
