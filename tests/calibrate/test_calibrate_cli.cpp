@@ -44,7 +44,7 @@ struct RenderedCapture {
     truth.rig_id = "synthetic-4";
     truth.volume = ring.volume;
     for (int k : {0, 2, 4, 7}) truth.cameras.push_back(ring.cameras[static_cast<size_t>(k)]);
-    plan = make_capture_plan(truth, kBoard, 7, 14, 21);
+    plan = make_capture_plan(truth, kBoard, {.close_ups = 7, .shared = 14, .floors = 3}, 21);
     fs::remove_all(dir);
     const BoardRenderer renderer(truth, kBoard, 0.3 / std::sqrt(2.0), 2.0);
     SyntheticViewProvider provider(truth, renderer, plan, 5);
@@ -116,7 +116,9 @@ TEST_CASE("hullpose-calibrate turns a folder of images into a rig file and a rep
   const fs::path report = c.dir / "report.txt";
   const Process p = run_calibrate("--images " + (c.dir / "images").string() +
                                   " --board 13x8 --square-mm 80 --out " + rig_file.string() +
-                                  " --report " + report.string() + " --rig-id lab");
+                                  " --report " + report.string() +
+                                  " --rig-id lab --floor-view floor --floor-view floor2"
+                                  " --floor-view floor3");
   INFO(p.output);
   REQUIRE(p.status == 0);
   CHECK_THAT(p.output, Contains("cam0 a00_close00: board found; 1 views, coverage"));
@@ -141,6 +143,7 @@ TEST_CASE("hullpose-calibrate turns a folder of images into a rig file and a rep
   text << in.rdbuf();
   CHECK_THAT(text.str(), Contains("rms-intrinsic  rms-rig"));
   CHECK_THAT(text.str(), Contains("rig 'lab': 4 cameras"));
+  CHECK_THAT(text.str(), Contains("3 floor boards set the world frame"));
   CHECK_THAT(text.str(), Contains("capture volume"));
 }
 
@@ -183,9 +186,9 @@ TEST_CASE("live calibration from camera-node frame sources, with feedback as vie
   CalibrationOptions options;
   options.board = kBoard;
   char floor[32];
-  std::snprintf(floor, sizeof floor, "live%05zu",
-                c.plan.size() - 1);  // the plan ends with the floor
-  options.floor_view = floor;
+  // The plan ends with the three floor views; one sets the world frame here (the default).
+  std::snprintf(floor, sizeof floor, "live%05zu", c.plan.size() - 3);
+  options.floor_views = {floor};
   std::ostringstream feedback;
   RigCalibrator calibrator(options, &feedback);
   calibrator.add_all(provider);

@@ -3,9 +3,12 @@
 // rig to issue 9's tolerances, live feedback, and the clear errors for bad captures. Several
 // full calibrations: too slow for the sanitizer pass, hence "integration".
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
@@ -23,10 +26,12 @@ using Catch::Matchers::Contains;
 namespace {
 
 const BoardSpec kBoard{13, 8, 80};
+// Lighter than the recommended capture: these tests are about the pipeline, not its accuracy.
+const CapturePlan kPlan{.close_ups = 9, .shared = 16, .floors = 3};
 
 struct CornerCapture {
   Rig truth = make_ring_rig(3);
-  std::vector<PlannedView> plan = make_capture_plan(truth, kBoard, 9, 16, 5);
+  std::vector<PlannedView> plan = make_capture_plan(truth, kBoard, kPlan, 5);
 
   // Feeds every planned view's projected corners (noise 0.2 px per axis, 0.28 px RMS) to a
   // calibrator; `keep(view, camera)` can drop observations to build a bad capture.
@@ -50,6 +55,7 @@ const CornerCapture& corners() {
 CalibrationOptions default_options() {
   CalibrationOptions o;
   o.board = kBoard;
+  o.floor_views = floor_view_names(kPlan);
   return o;
 }
 
@@ -70,9 +76,13 @@ TEST_CASE("bundle adjustment pulls a perturbed rig back to the truth on exact ob
   for (int k = 0; k < kBoard.corner_count(); ++k) p.board_points.push_back(kBoard.corner_mm(k));
   std::mt19937 rng(9);
   std::normal_distribution<double> n(0, 1);
+  const auto floors = floor_view_names(kPlan);
   for (const auto& v : cap.plan) {
     p.world_from_board.push_back(v.world_from_board);
-    p.board_fixed.push_back(v.name == "floor");
+    p.board_motion.push_back(v.name == floors.front() ? BoardMotion::kFixed
+                             : std::count(floors.begin(), floors.end(), v.name)
+                                 ? BoardMotion::kOnFloor
+                                 : BoardMotion::kFree);
   }
   for (size_t c = 0; c < cap.truth.cameras.size(); ++c)
     for (size_t b = 0; b < cap.plan.size(); ++b) {
@@ -93,12 +103,13 @@ TEST_CASE("bundle adjustment pulls a perturbed rig back to the truth on exact ob
     apply_camera_step(cam, s);
     p.cameras.push_back(cam);
   }
-  for (size_t b = 0; b < p.world_from_board.size(); ++b)
-    if (!p.board_fixed[b]) {
-      Eigen::Matrix<double, 6, 1> s;
-      s << 0.003 * n(rng), 0.003 * n(rng), 0.003 * n(rng), 10 * n(rng), 10 * n(rng), 10 * n(rng);
-      apply_board_step(p.world_from_board[b], s);
-    }
+  for (size_t b = 0; b < p.world_from_board.size(); ++b) {
+    Eigen::Matrix<double, 6, 1> s;
+    s << 0.003 * n(rng), 0.003 * n(rng), 0.003 * n(rng), 10 * n(rng), 10 * n(rng), 10 * n(rng);
+    // A floor board starts off its true place but on the floor: turned about z, slid in x, y.
+    if (p.board_motion[b] == BoardMotion::kOnFloor) s(0) = s(1) = s(5) = 0;
+    if (p.board_motion[b] != BoardMotion::kFixed) apply_board_step(p.world_from_board[b], s);
+  }
   const BundleResult r = bundle_adjust(p, BundleOptions{});
   CHECK(r.initial_rms_px > 1.0);
   CHECK(r.final_rms_px < 1e-4);
@@ -106,6 +117,17 @@ TEST_CASE("bundle adjustment pulls a perturbed rig back to the truth on exact ob
     CHECK((p.cameras[c].centre() - cap.truth.cameras[c].centre()).norm() < 0.01);
     CHECK(std::abs(p.cameras[c].fx - cap.truth.cameras[c].fx) < 1e-3);
   }
+  // The floor boards found their places and stayed flat on the floor throughout.
+  int on_floor = 0;
+  for (size_t b = 0; b < p.world_from_board.size(); ++b) {
+    if (p.board_motion[b] != BoardMotion::kOnFloor) continue;
+    ++on_floor;
+    const Eigen::Isometry3d& e = p.world_from_board[b];
+    CHECK(e.translation().z() == 0);
+    CHECK(e.linear().col(2).z() == Approx(-1).margin(1e-12));
+    CHECK((e.translation() - cap.plan[b].world_from_board.translation()).norm() < 0.01);
+  }
+  CHECK(on_floor == 2);
 }
 
 TEST_CASE("a known rig is recovered from noisy corners, with the report filled in") {
@@ -134,6 +156,39 @@ TEST_CASE("a known rig is recovered from noisy corners, with the report filled i
   CHECK(r.rig.volume.max_mm.z() > 2000);
   CHECK((r.rig.volume.min_mm.head<2>().array() < -800).all());
   CHECK((r.rig.volume.max_mm.head<2>().array() > 800).all());
+}
+
+TEST_CASE("issue 9's tolerances hold for every capture and noise draw, not for one lucky seed") {
+  // The rendered-image test's rig and noise (0.3 px RMS), the recommended capture with a
+  // different random plan and noise draw each time: eight full calibrations at corner level.
+  const Rig truth = make_ring_rig(7);
+  const CapturePlan recommended;
+  CalibrationOptions options = default_options();
+  options.floor_views = floor_view_names(recommended);
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    const auto plan = make_capture_plan(truth, kBoard, recommended, 100 + seed);
+    RigCalibrator calibrator(options);
+    std::mt19937 rng(seed);
+    for (const auto& v : plan)
+      for (const auto& c : truth.cameras)
+        calibrator.add_detection(
+            v.name, c.id, {c.width, c.height},
+            project_board(c, kBoard, v.world_from_board, 0.3 / std::sqrt(2.0), rng));
+    const CalibrationResult r = calibrator.solve();
+    const RigError error = compare_rigs(truth, r.rig);
+    std::cout << "seed " << seed << ", " << error.worst() << ", floor tilt " << error.gauge_tilt_deg
+              << " deg, rms " << r.rms_px << " px\n";
+    INFO("seed " << seed);
+    for (const auto& e : error.absolute) {
+      INFO(e);
+      CHECK(meets_issue_tolerances(e));
+    }
+    // Five floor boards pin the floor's tilt; one board's own tilt, seen from 60 degrees off
+    // head-on, was off by up to 0.07 degrees (4 mm at the cameras).
+    CHECK(error.gauge_tilt_deg < 0.03);
+    CHECK(r.rms_px > 0.27);
+    CHECK(r.rms_px < 0.33);
+  }
 }
 
 TEST_CASE("views with wrong corners, or one misplaced corner, are rejected as outliers") {
@@ -206,6 +261,21 @@ TEST_CASE("bad captures get clear messages, not a rig") {
     }
     CHECK_THAT(solve_error(calibrator),
                Contains("camera 0: all 12 board views are nearly parallel"));
+  }
+  SECTION("a floor view whose board is not on the floor") {
+    CalibrationOptions o = default_options();
+    o.floor_views.push_back("b_shared03");  // held up in the middle of the volume
+    RigCalibrator calibrator(o);
+    corners().feed(calibrator, [](const std::string&, int) { return true; });
+    const std::string msg = solve_error(calibrator);
+    CHECK_THAT(msg, Contains("the board of floor view 'b_shared03' is "));
+    CHECK_THAT(msg, Contains("off the plane of floor view 'floor'"));
+  }
+  SECTION("a floor view no camera saw") {
+    RigCalibrator calibrator(default_options());
+    corners().feed(calibrator, [](const std::string& view, int) { return view != "floor3"; });
+    CHECK_THAT(solve_error(calibrator),
+               Contains("the floor board (instant 'floor3') was not found"));
   }
   SECTION("no floor view") {
     RigCalibrator calibrator(default_options());

@@ -112,8 +112,21 @@ TEST_CASE("command line errors name the argument") {
   const CommandLine ok = parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm",
                                 "120", "--floor-view", "ground", "--no-k3"});
   CHECK(ok.options.board.square_mm == 120);
-  CHECK(ok.options.floor_view == "ground");
+  CHECK(ok.options.floor_views == std::vector<std::string>{"ground"});
+  CHECK(parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "120"})
+            .options.floor_views == std::vector<std::string>{"floor"});
+  CHECK(parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm", "120",
+               "--floor-view", "f1", "--floor-view", "f2"})
+            .options.floor_views == std::vector<std::string>{"f1", "f2"});
   CHECK_FALSE(ok.options.intrinsics.estimate_k3);
+}
+TEST_CASE("floor views must be named, once each") {
+  CalibrationOptions o;
+  o.board = {9, 6, 120};
+  o.floor_views = {};
+  CHECK_THROWS_WITH(RigCalibrator(o), Contains("name at least one floor view"));
+  o.floor_views = {"floor", "floor2", "floor"};
+  CHECK_THROWS_WITH(RigCalibrator(o), Contains("floor view 'floor' is named twice"));
 }
 TEST_CASE("a symmetric board is refused") {
   CalibrationOptions o;

@@ -7,6 +7,7 @@
 #include "hullpose/calibrate/bundle_adjust.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -137,10 +138,10 @@ void apply_board_step(Eigen::Isometry3d& b, const BoardVector& s) {
 BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
   const size_t n_cams = p.cameras.size();
   const size_t n_boards = p.world_from_board.size();
-  HULLPOSE_ASSERT(p.board_fixed.size() == n_boards);
-  bool any_fixed = false;
-  for (bool f : p.board_fixed) any_fixed = any_fixed || f;
-  HULLPOSE_THROW_UNLESS(any_fixed, "bundle adjustment: no board is fixed, the world frame is free");
+  HULLPOSE_ASSERT(p.board_motion.size() == n_boards);
+  HULLPOSE_THROW_UNLESS(std::find(p.board_motion.begin(), p.board_motion.end(),
+                                  BoardMotion::kFixed) != p.board_motion.end(),
+                        "bundle adjustment: no board is fixed, the world frame is free");
   for (const auto& obs : p.observations)
     HULLPOSE_ASSERT(obs.pixels.size() == p.board_points.size() && obs.camera >= 0 &&
                     static_cast<size_t>(obs.camera) < n_cams && obs.board >= 0 &&
@@ -151,11 +152,21 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
   for (int i = 0; i < kCameraParams; ++i)
     free[static_cast<size_t>(i)] = i < 6 || options.refine_intrinsics;
   if (!options.refine_k3) free[14] = false;
+  // A board on the floor turns about world z (rotation increments are in the world frame) and
+  // slides in x and y; a fixed board has no parameters at all (its blocks are skipped).
+  std::vector<std::array<bool, 6>> board_free(n_boards);
+  for (size_t b = 0; b < n_boards; ++b)
+    board_free[b] = p.board_motion[b] == BoardMotion::kOnFloor
+                        ? std::array<bool, 6>{false, false, true, true, true, false}
+                        : std::array<bool, 6>{true, true, true, true, true, true};
 
   // Observations grouped by board, for the Schur complement.
   std::vector<std::vector<size_t>> by_board(n_boards);
   for (size_t o = 0; o < p.observations.size(); ++o)
     by_board[static_cast<size_t>(p.observations[o].board)].push_back(o);
+  auto moves = [&](size_t b) {
+    return p.board_motion[b] != BoardMotion::kFixed && !by_board[b].empty();
+  };
 
   const size_t n_corners = corner_total(p);
   HULLPOSE_ASSERT(n_corners > 0);
@@ -195,10 +206,12 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
         HULLPOSE_ASSERT(ok);  // the cost is finite, so every point is in front
         for (int i = 0; i < kCameraParams; ++i)
           if (!free[static_cast<size_t>(i)]) jc.col(i).setZero();
+        for (int i = 0; i < 6; ++i)
+          if (!board_free[b][static_cast<size_t>(i)]) jb.col(i).setZero();
         const Eigen::Vector2d r = px - obs.pixels[j];
         U[c].noalias() += jc.transpose() * jc;
         gc[c].noalias() += jc.transpose() * r;
-        if (!p.board_fixed[b]) {
+        if (moves(b)) {
           V[b].noalias() += jb.transpose() * jb;
           gb[b].noalias() += jb.transpose() * r;
           W[o].noalias() += jc.transpose() * jb;
@@ -221,9 +234,10 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
       }
       std::vector<BoardBlock> Vinv(n_boards);
       for (size_t b = 0; b < n_boards; ++b) {
-        if (p.board_fixed[b] || by_board[b].empty()) continue;
+        if (!moves(b)) continue;
         BoardBlock a = V[b];
-        a.diagonal() = a.diagonal() * (1 + lambda) + BoardVector::Constant(1e-12);
+        for (int i = 0; i < 6; ++i)
+          a(i, i) = board_free[b][static_cast<size_t>(i)] ? a(i, i) * (1 + lambda) + 1e-12 : 1.0;
         Vinv[b] = a.ldlt().solve(BoardBlock::Identity());
         for (size_t o1 : by_board[b]) {
           const auto c1 = static_cast<Eigen::Index>(p.observations[o1].camera);
@@ -251,7 +265,7 @@ BundleResult bundle_adjust(BundleProblem& p, const BundleOptions& options) {
         apply_camera_step(trial_cameras[c], step);
       }
       for (size_t b = 0; b < n_boards; ++b) {
-        if (p.board_fixed[b] || by_board[b].empty()) continue;
+        if (!moves(b)) continue;
         BoardVector rb = -gb[b];
         for (size_t o : by_board[b])
           rb -= W[o].transpose() *

@@ -47,7 +47,11 @@ std::string usage() {
          "  --timeout-ms T           live: a camera silent this long is an error (default 2000)\n"
          "  --board COLSxROWS        inner corners, one side even and one odd (e.g. 9x6)\n"
          "  --square-mm S            square size in mm\n"
-         "  --floor-view NAME        instant with the board lying on the floor (default: floor)\n"
+         "  --floor-view NAME        instant with the board lying printed face up on the floor\n"
+         "                           (default: floor). Repeat it for the board laid at several\n"
+         "                           spots on the floor: the first sets the origin and x axis, "
+         "all\n"
+         "                           of them the floor plane (more accurate than one board)\n"
          "  --board-thickness-mm T   height of the floor board's face above the floor (default 0)\n"
          "  --rig-id ID              rig id written to the rig file (default: calibrated)\n"
          "  --min-views N            board views a camera needs for its intrinsics (default 8)\n"
@@ -62,7 +66,7 @@ std::string usage() {
 
 CommandLine parse_command_line(int argc, const char* const* argv) {
   CommandLine cli;
-  bool have_board = false, have_square = false;
+  bool have_board = false, have_square = false, have_floor = false;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     auto value = [&]() -> std::string {
@@ -98,7 +102,9 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cli.options.board.square_mm = to_double(flag, value());
       have_square = true;
     } else if (flag == "--floor-view") {
-      cli.options.floor_view = value();
+      if (!have_floor) cli.options.floor_views.clear();  // the first one replaces the default
+      cli.options.floor_views.push_back(value());
+      have_floor = true;
     } else if (flag == "--board-thickness-mm") {
       cli.options.board_thickness_mm = to_double(flag, value());
     } else if (flag == "--rig-id") {

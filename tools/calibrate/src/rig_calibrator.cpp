@@ -1,5 +1,7 @@
 #include "hullpose/calibrate/rig_calibrator.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <opencv2/core/utility.hpp>
 #include <ostream>
@@ -15,6 +17,12 @@ namespace hullpose::calibrate {
 HULLPOSE_LOG_CATEGORY(Calibrate, "calibrate")
 
 namespace {
+
+// A floor view's board, chained from the cameras, may sit this far off the first floor board's
+// plane: chaining errors are millimetres and fractions of a degree, a board on a table or
+// propped against a wall is far beyond.
+constexpr double kMaxFloorTiltDeg = 10;
+constexpr double kMaxFloorHeightMm = 50;
 
 // A camera's error in the rig may exceed its error alone by this factor plus slack.
 constexpr double kMaxRigToIntrinsicRms = 1.5;
@@ -32,7 +40,15 @@ RigCalibrator::RigCalibrator(CalibrationOptions options, std::ostream* feedback)
     : options_(std::move(options)), feedback_(feedback) {
   options_.intrinsics.live_estimates = feedback_ != nullptr;
   options_.board.validate();
-  HULLPOSE_THROW_UNLESS(!options_.floor_view.empty(), "the floor view name must not be empty");
+  HULLPOSE_THROW_UNLESS(!options_.floor_views.empty(),
+                        "name at least one floor view (the board lying on the floor)");
+  for (size_t i = 0; i < options_.floor_views.size(); ++i) {
+    const std::string& name = options_.floor_views[i];
+    HULLPOSE_THROW_UNLESS(!name.empty(), "a floor view name must not be empty");
+    HULLPOSE_THROW_UNLESS(std::find(options_.floor_views.begin() + static_cast<long>(i) + 1,
+                                    options_.floor_views.end(), name) == options_.floor_views.end(),
+                          "floor view '" << name << "' is named twice");
+  }
 }
 
 int RigCalibrator::view_index(const std::string& view) {
@@ -118,12 +134,21 @@ CalibrationResult RigCalibrator::solve() const {
       corners.push_back(&in.kept[k].corners);
     }
   }
-  const auto floor_it = view_index_.find(options_.floor_view);
-  HULLPOSE_THROW_UNLESS(floor_it != view_index_.end(),
-                        "no capture instant named '"
-                            << options_.floor_view
-                            << "' (the board lying on the floor sets the world frame)");
-  const int floor = floor_it->second;
+  // The floor views in the order named; the first sets the origin and roots the linking at the
+  // camera that saw it best.
+  std::vector<int> floors;
+  for (const auto& name : options_.floor_views) {
+    const auto it = view_index_.find(name);
+    HULLPOSE_THROW_UNLESS(it != view_index_.end(),
+                          "no capture instant named '"
+                              << name << "' (a board lying on the floor sets the world frame)");
+    HULLPOSE_THROW_UNLESS(
+        std::any_of(poses.begin(), poses.end(),
+                    [&](const PoseObservation& p) { return p.view == it->second; }),
+        "the floor board (instant '" << name << "') was not found (or was rejected) in any camera");
+    floors.push_back(it->second);
+  }
+  const int floor = floors.front();
   int root = -1;
   double root_rms = 0;
   for (const auto& p : poses)
@@ -131,9 +156,6 @@ CalibrationResult RigCalibrator::solve() const {
       root = p.camera;
       root_rms = p.rms_px;
     }
-  HULLPOSE_THROW_UNLESS(root >= 0, "the floor board (instant '"
-                                       << options_.floor_view
-                                       << "') was not found (or was rejected) in any camera");
   const Linkage link = link_cameras(n_cams, n_views, poses, root);
   std::vector<int> unlinked;
   for (int c = 0; c < n_cams; ++c)
@@ -155,15 +177,36 @@ CalibrationResult RigCalibrator::solve() const {
     HULLPOSE_THROW(msg.str());
   }
 
-  // 3. World frame: the floor board, printed face up, z up, origin under its grid centre.
+  // 3. World frame: the first floor board, printed face up, z up, origin under its grid centre.
   Eigen::Isometry3d world_from_floor = Eigen::Isometry3d::Identity();
   world_from_floor.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
   world_from_floor.translation() = Eigen::Vector3d(0, 0, options_.board_thickness_mm) -
                                    world_from_floor.linear() * options_.board.centre_mm();
   const Eigen::Isometry3d world_from_root =
       world_from_floor * link.root_from_board[static_cast<size_t>(floor)]->inverse();
+  // The other floor boards start from their chained poses laid flat on the plane (the bundle
+  // adjustment keeps them there); one far off the first board's plane was not on the floor.
+  auto laid_on_floor = [&](const Eigen::Isometry3d& chained, const std::string& name) {
+    const double tilt_deg =
+        std::acos(std::clamp(-chained.linear().col(2).z(), -1.0, 1.0)) * 180.0 / M_PI;
+    const double height_mm = chained.translation().z() - options_.board_thickness_mm;
+    HULLPOSE_THROW_UNLESS(tilt_deg < kMaxFloorTiltDeg && std::abs(height_mm) < kMaxFloorHeightMm,
+                          "the board of floor view '"
+                              << name << "' is " << std::fixed << std::setprecision(0) << tilt_deg
+                              << " degrees and " << height_mm << " mm off the plane of floor view '"
+                              << options_.floor_views.front()
+                              << "': is it lying printed face up on the same floor?");
+    const Eigen::Vector3d x = chained.linear().col(0);
+    Eigen::Isometry3d flat = Eigen::Isometry3d::Identity();
+    flat.linear() = Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Eigen::Vector3d::UnitZ()) *
+                    world_from_floor.linear();
+    flat.translation() = chained.translation();
+    flat.translation().z() = options_.board_thickness_mm;
+    return flat;
+  };
 
-  // 4. Bundle adjustment over every observation, the floor board held fixed.
+  // 4. Bundle adjustment over every observation, the first floor board held fixed and the others
+  // on the floor plane.
   BundleProblem problem;
   for (int i = 0; i < options_.board.corner_count(); ++i)
     problem.board_points.push_back(options_.board.corner_mm(i));
@@ -180,8 +223,18 @@ CalibrationResult RigCalibrator::solve() const {
     const auto& b = link.root_from_board[static_cast<size_t>(v)];
     if (!b) continue;
     board_of_view[static_cast<size_t>(v)] = static_cast<int>(problem.world_from_board.size());
-    problem.world_from_board.push_back(v == floor ? world_from_floor : world_from_root * *b);
-    problem.board_fixed.push_back(v == floor);
+    const auto floor_rank = std::find(floors.begin(), floors.end(), v) - floors.begin();
+    if (v == floor) {
+      problem.world_from_board.push_back(world_from_floor);
+      problem.board_motion.push_back(BoardMotion::kFixed);
+    } else if (floor_rank < static_cast<long>(floors.size())) {
+      problem.world_from_board.push_back(laid_on_floor(
+          world_from_root * *b, options_.floor_views[static_cast<size_t>(floor_rank)]));
+      problem.board_motion.push_back(BoardMotion::kOnFloor);
+    } else {
+      problem.world_from_board.push_back(world_from_root * *b);
+      problem.board_motion.push_back(BoardMotion::kFree);
+    }
   }
   for (size_t k = 0; k < poses.size(); ++k) {
     BoardObservation obs;
@@ -225,6 +278,7 @@ CalibrationResult RigCalibrator::solve() const {
   }
 
   CalibrationResult result;
+  result.floor_boards = static_cast<int>(floors.size());
   result.rms_px = adjusted.final_rms_px;
   result.initial_rms_px = adjusted.initial_rms_px;
   result.iterations = adjusted.iterations;
@@ -273,7 +327,9 @@ void print_report(std::ostream& out, const CalibrationResult& r) {
   }
   out << std::setprecision(3) << "rig '" << r.rig.rig_id << "': " << r.cameras.size()
       << " cameras, " << r.corners << " corners, RMS " << r.initial_rms_px << " px chained -> "
-      << r.rms_px << " px after bundle adjustment (" << r.iterations << " iterations)\n"
+      << r.rms_px << " px after bundle adjustment (" << r.iterations << " iterations), "
+      << r.floor_boards << (r.floor_boards == 1 ? " floor board" : " floor boards")
+      << " set the world frame\n"
       << std::setprecision(0) << "capture volume [" << r.rig.volume.min_mm.transpose() << "] .. ["
       << r.rig.volume.max_mm.transpose() << "] mm\n";
 }

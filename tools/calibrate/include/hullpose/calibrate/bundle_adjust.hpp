@@ -29,11 +29,21 @@ struct BoardObservation {
   std::vector<Eigen::Vector2d> pixels;  // one per board point, same order
 };
 
+// How a board may move. The world frame (the gauge) needs at least one fixed board.
+enum class BoardMotion {
+  kFree,
+  // Lying on the world's z = const plane it starts on: it only slides along x and y and turns
+  // about z. Several boards laid on the floor then define the floor plane together, instead of
+  // the tilt of a single board fixing it for the whole rig.
+  kOnFloor,
+  kFixed,
+};
+
 struct BundleProblem {
   std::vector<Eigen::Vector3d> board_points;  // board frame, mm
   std::vector<CameraModel> cameras;           // initial values; refined in place
   std::vector<Eigen::Isometry3d> world_from_board;
-  std::vector<bool> board_fixed;  // the gauge: at least one board is fixed
+  std::vector<BoardMotion> board_motion;  // per board
   std::vector<BoardObservation> observations;
 };
 

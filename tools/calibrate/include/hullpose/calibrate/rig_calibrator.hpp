@@ -18,9 +18,11 @@ struct CalibrationOptions {
   BoardSpec board;
   IntrinsicsOptions intrinsics;
   std::string rig_id = "calibrated";
-  // The instant whose board lies printed face up on the floor: world origin under the centre of
-  // its corner grid, x along its rows of corners, z up.
-  std::string floor_view = "floor";
+  // Instants whose board lies printed face up on the floor. The first sets the origin (under the
+  // centre of its corner grid) and the x axis (along its rows of corners); all of them together
+  // set the floor plane (z = 0, z up). Boards spread over the floor pin the plane's tilt far
+  // better than one board's own tilt does (0.06 degrees of tilt moves a camera 4 m away by 4 mm).
+  std::vector<std::string> floor_views = {"floor"};
   double board_thickness_mm = 0;
   bool refine_intrinsics = true;  // in the bundle adjustment
   int volume_min_cameras = 0;     // 0: all cameras
@@ -41,6 +43,7 @@ struct CameraReport {
 
 struct CalibrationResult {
   Rig rig;
+  int floor_boards = 0;  // floor views that set the world frame
   std::vector<CameraReport> cameras;
   double rms_px = 0;
   double initial_rms_px = 0;  // of the chained rig, before the bundle adjustment
