@@ -92,6 +92,12 @@ struct Carver::Frame {
   std::vector<size_t> steps;
 };
 
+cv::Rect foreground_box(const cv::Mat& view, std::span<const PixelRoi> fg_boxes, size_t camera) {
+  if (fg_boxes.empty()) return cv::boundingRect(view);
+  const PixelRoi& r = fg_boxes[camera];
+  return cv::Rect(r.x, r.y, r.width, r.height) & cv::Rect(0, 0, view.cols, view.rows);
+}
+
 Carver::Carver(const Rig& rig, const CarveOptions& options)
     : rig_(rig), options_(options), pre_(std::make_unique<Precomputed>()), frame_(std::make_unique<Frame>()) {
   rig_.validate();
@@ -249,14 +255,7 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
   // Column counts of each silhouette over its foreground box only (outside it is background).
   for (int c : f.present) {
     const cv::Mat& m = views[static_cast<size_t>(c)];
-    cv::Rect box;
-    if (!fg_boxes.empty()) {
-      const PixelRoi& r = fg_boxes[static_cast<size_t>(c)];
-      box = cv::Rect(r.x, r.y, r.width, r.height) & cv::Rect(0, 0, m.cols, m.rows);
-    } else {
-      box = cv::boundingRect(m);
-    }
-    f.counts[static_cast<size_t>(c)].build(m, box);
+    f.counts[static_cast<size_t>(c)].build(m, foreground_box(m, fg_boxes, static_cast<size_t>(c)));
     f.bases[static_cast<size_t>(c)] = m.ptr<uint8_t>(0);
     f.steps[static_cast<size_t>(c)] = m.step[0];
   }

@@ -180,13 +180,7 @@ void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, ca
   m.mask_views_host.clear();
   for (int c : m.present) {
     const cv::Mat& mask = views[static_cast<size_t>(c)];
-    cv::Rect box;
-    if (!fg_boxes.empty()) {
-      const PixelRoi& r = fg_boxes[static_cast<size_t>(c)];
-      box = cv::Rect(r.x, r.y, r.width, r.height) & cv::Rect(0, 0, mask.cols, mask.rows);
-    } else {
-      box = cv::boundingRect(mask);
-    }
+    const cv::Rect box = carve::foreground_box(mask, fg_boxes, static_cast<size_t>(c));
     auto* dev = m.masks[static_cast<size_t>(c)].as<uint8_t>();
     const size_t pitch = static_cast<size_t>(mask.cols);
     if (box.area() > 0)

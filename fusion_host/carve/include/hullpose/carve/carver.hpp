@@ -60,6 +60,11 @@ class VoxelProjector {
   CameraParams params_;
 };
 
+// The part of view `camera` that carving reads: fg_boxes[camera] clipped to the image when
+// foreground boxes are given (pixels outside it are background), else the mask's bounding box of
+// non-zero pixels. Shared by the CPU fast path and the CUDA upload.
+cv::Rect foreground_box(const cv::Mat& view, std::span<const PixelRoi> fg_boxes, size_t camera);
+
 struct CarveOptions {
   int resolution = 64;  // voxels along the longest axis of the capture volume
   int tolerance = 0;    // k: a voxel may miss the silhouette in up to k present cameras
