@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""Loads hullpose-web's page in headless Chromium and checks that the skeleton is drawn.
+
+usage: browser_check.py URL SCREENSHOT.png [--min-skeletons N] [--timeout-s S]
+
+Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: JSON messages
+ending in NUL on file descriptors 3 and 4), so nothing but the Python standard library and PIL
+is needed. Steps: open the page; wait until window.hullpose has counted N skeletons (page state);
+pause the view, wait for a drawn frame, read the projected joints and bone midpoints; take a
+screenshot; then every long bone's midpoint must show the bone colour and every joint must be
+drawn (not background). Prints a JSON summary; exits 1 on failure.
+"""
+import base64, fcntl, io, json, os, shutil, subprocess, sys, tempfile, time
+
+from PIL import Image
+
+BACKGROUND = (0x15, 0x18, 0x1C)
+
+
+class Browser:
+    def __init__(self, profile):
+        to_chrome_r, self.to_chrome = os.pipe()
+        self.from_chrome, from_chrome_w = os.pipe()
+        exe = shutil.which("chromium") or shutil.which("chromium-browser")
+        if not exe:
+            sys.exit("FAIL: chromium not found (Debian package 'chromium', deploy/packages.txt)")
+        flags = ["--headless=new", "--remote-debugging-pipe", "--no-sandbox", "--no-first-run", "--disable-gpu",
+                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1280,800", "--hide-scrollbars",
+                 f"--user-data-dir={profile}", "about:blank"]
+        # Chromium reads commands from fd 3 and writes replies to fd 4; bash puts the pipe ends there.
+        # (moved above 9 first: the pipe's own numbers may be 3 or 4)
+        r, w = fcntl.fcntl(to_chrome_r, fcntl.F_DUPFD, 10), fcntl.fcntl(from_chrome_w, fcntl.F_DUPFD, 10)
+        os.close(to_chrome_r)
+        os.close(from_chrome_w)
+        shell = f'exec "$0" "$@" 3<&{r} 4>&{w} {r}<&- {w}>&-'
+        self.proc = subprocess.Popen(["bash", "-c", shell, exe, *flags], pass_fds=(r, w), stdout=subprocess.DEVNULL,
+                                     stderr=open(os.path.join(profile, "chromium.log"), "w"))
+        os.close(r)
+        os.close(w)
+        self.next_id, self.buffer, self.session = 0, b"", None
+
+    def send(self, method, params=None, session=True):
+        self.next_id += 1
+        msg = {"id": self.next_id, "method": method, "params": params or {}}
+        if session and self.session:
+            msg["sessionId"] = self.session
+        os.write(self.to_chrome, json.dumps(msg).encode() + b"\0")
+        while True:
+            reply = self.read()
+            if reply.get("id") == self.next_id:
+                if "error" in reply:
+                    raise RuntimeError(f"{method}: {reply['error']}")
+                return reply.get("result", {})
+
+    def read(self):
+        while b"\0" not in self.buffer:
+            chunk = os.read(self.from_chrome, 1 << 16)
+            if not chunk:
+                sys.exit("FAIL: chromium closed the DevTools pipe (see chromium.log)")
+            self.buffer += chunk
+        msg, self.buffer = self.buffer.split(b"\0", 1)
+        return json.loads(msg)
+
+    def evaluate(self, expression):
+        r = self.send("Runtime.evaluate", {"expression": expression, "awaitPromise": True, "returnByValue": True})
+        if "exceptionDetails" in r:
+            raise RuntimeError(f"page: {r['exceptionDetails']}")
+        return r["result"].get("value")
+
+    def close(self):
+        try:
+            self.send("Browser.close", session=False)
+        except Exception:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+def near(c, ref, tol=12):
+    return all(abs(a - b) <= tol for a, b in zip(c, ref))
+
+
+def main():
+    url, shot = sys.argv[1], sys.argv[2]
+    min_skeletons = int(sys.argv[sys.argv.index("--min-skeletons") + 1]) if "--min-skeletons" in sys.argv else 10
+    timeout = float(sys.argv[sys.argv.index("--timeout-s") + 1]) if "--timeout-s" in sys.argv else 60
+    profile = tempfile.mkdtemp(prefix="hullpose-chromium.")
+    b = Browser(profile)
+    try:
+        targets = b.send("Target.getTargets", session=False)["targetInfos"]
+        page = next(t for t in targets if t["type"] == "page")
+        b.session = b.send("Target.attachToTarget", {"targetId": page["targetId"], "flatten": True}, session=False)["sessionId"]
+        b.send("Page.enable")
+        b.send("Page.navigate", {"url": url})
+        deadline = time.monotonic() + timeout  # a bound on waiting, not a timing assertion
+        state = None
+        while time.monotonic() < deadline:
+            state = b.evaluate("window.hullpose ? {skeletons: hullpose.skeletons, valid: hullpose.valid, invalid: hullpose.invalid,"
+                               " statuses: hullpose.statuses, cameras: document.querySelectorAll('#cameras tbody tr').length,"
+                               " rig: !!hullpose.rig} : null")
+            if state and state["skeletons"] >= min_skeletons and state["valid"] > 0:
+                break
+            time.sleep(0.1)
+        if not state or state["skeletons"] < min_skeletons:
+            sys.exit(f"FAIL: the page counted {state and state['skeletons']} skeletons, expected >= {min_skeletons}")
+        # Freeze the view on a valid pose, then read where its joints are on screen.
+        proj = b.evaluate("""(async () => {
+            for (let i = 0; i < 200 && !(hullpose.shown && hullpose.shown.valid); ++i) await hullpose.rendered();
+            hullpose.pause(); await hullpose.rendered();
+            return {proj: hullpose.projected(), colour: hullpose.boneColour,
+                    banner: document.getElementById('banner').textContent, latency: document.getElementById('latency').textContent,
+                    panel: document.querySelector('#cameras tbody').innerText};
+        })()""")
+        png = base64.b64decode(b.send("Page.captureScreenshot", {"format": "png"})["data"])
+    finally:
+        b.close()
+    with open(shot, "wb") as f:
+        f.write(png)
+    img = Image.open(io.BytesIO(png)).convert("RGB")
+    w, h = img.size
+    colour = ((proj["colour"] >> 16) & 255, (proj["colour"] >> 8) & 255, proj["colour"] & 255)
+
+    def window(x, y, r=2):
+        return [img.getpixel((min(w - 1, max(0, int(x) + dx)), min(h - 1, max(0, int(y) + dy))))
+                for dx in range(-r, r + 1) for dy in range(-r, r + 1)]
+
+    joints = {j["name"]: j for j in proj["proj"]["joints"]}
+    long_bones = []
+    for bone in proj["proj"]["bones"]:
+        a, c = (joints[n] for n in bone["name"].split("-"))
+        if ((a["x"] - c["x"]) ** 2 + (a["y"] - c["y"]) ** 2) ** 0.5 >= 20:  # long enough on screen to be seen past the joints
+            long_bones.append(bone)
+    on_screen = [p for p in long_bones if 0 <= p["x"] < w and 0 <= p["y"] < h]
+    bone_hits = [p["name"] for p in on_screen if any(near(c, colour) for c in window(p["x"], p["y"]))]
+    joint_hits = [j["name"] for j in joints.values() if 0 <= j["x"] < w and 0 <= j["y"] < h
+                  and any(not near(c, BACKGROUND, 6) for c in window(j["x"], j["y"], 1))]
+    # A pixel of a screen corner is no bone: the check can tell drawn from not drawn.
+    corner_is_bone = near(img.getpixel((w - 3, h - 3)), colour)
+    summary = {"state": state, "banner": proj["banner"], "latency": proj["latency"], "panel_rows": state["cameras"],
+               "long_bones": len(long_bones), "bones_on_screen": len(on_screen), "bones_drawn": len(bone_hits),
+               "joints_drawn": len(joint_hits), "screenshot": shot, "size": [w, h]}
+    print(json.dumps(summary))
+    shutil.rmtree(profile, ignore_errors=True)
+    problems = []
+    if len(on_screen) < 8:
+        problems.append(f"only {len(on_screen)} long bones project into the view")
+    if len(bone_hits) < 0.9 * len(on_screen):
+        problems.append(f"bone colour at {len(bone_hits)} of {len(on_screen)} bone midpoints: missing "
+                        f"{sorted(set(p['name'] for p in on_screen) - set(bone_hits))}")
+    if len(joint_hits) < 0.9 * len(joints):
+        problems.append(f"only {len(joint_hits)} of {len(joints)} joints drawn")
+    if corner_is_bone:
+        problems.append("the screen corner has the bone colour: the check cannot tell")
+    if problems:
+        sys.exit("FAIL: " + "; ".join(problems))
+
+
+main()

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""Joints from a BVH reader's forward kinematics (bvh_fk.js) against the joints they were made of.
+
+usage: bvh_compare.py FK.csv POSES.csv GAPS.json [--exact]
+POSES.csv: an estimate or ground-truth file (docs/conventions.md). Frames the exporter marked
+"measured" are compared. Our BVH holds the subject's (median) bone lengths for the whole take,
+so a joint can differ from a frame whose bones are longer or shorter by at most the sum of those
+length differences along its chain from the pelvis; with directions right it differs by no
+more. --exact: the poses have the subject's lengths (ground truth), every joint within 1 mm.
+Otherwise: every joint within 1 mm plus its chain's length difference. Prints a JSON summary.
+"""
+import csv, json, math, sys
+
+NAMES = ["HeadTop", "Head", "Neck", "Chest", "LSho", "RSho", "LElb", "RElb", "LHand", "RHand", "LFTip", "RFTip", "UBack",
+         "Back", "LBack", "LHip", "RHip", "LKne", "RKne", "LAnk", "RAnk", "LFoot", "RFoot", "LToe", "RToe"]
+BONES = [("Chest", "Neck"), ("Neck", "Head"), ("Head", "HeadTop"), ("Chest", "LSho"), ("Chest", "RSho"), ("LSho", "LElb"),
+         ("RSho", "RElb"), ("LElb", "LHand"), ("RElb", "RHand"), ("LHand", "LFTip"), ("RHand", "RFTip"), ("Chest", "UBack"),
+         ("UBack", "Back"), ("Back", "LBack"), ("LBack", "LHip"), ("LBack", "RHip"), ("LHip", "LKne"), ("RHip", "RKne"),
+         ("LKne", "LAnk"), ("RKne", "RAnk"), ("LAnk", "LFoot"), ("RAnk", "RFoot"), ("LFoot", "LToe"), ("RFoot", "RToe")]
+END_SITES = {"Head.end": "HeadTop", "LHand.end": "LFTip", "RHand.end": "RFTip", "LFoot.end": "LToe", "RFoot.end": "RToe"}
+
+
+def chains():
+    """For each joint, the bones from the pelvis (LBack) to it."""
+    adj = {n: [] for n in NAMES}
+    for a, b in BONES:
+        adj[a].append(b)
+        adj[b].append(a)
+    path, todo = {"LBack": []}, ["LBack"]
+    while todo:
+        j = todo.pop()
+        for k in adj[j]:
+            if k not in path:
+                path[k] = path[j] + [(j, k)]
+                todo.append(k)
+    return path
+
+
+def main():
+    fk_path, poses_path, gaps_path = sys.argv[1:4]
+    exact = "--exact" in sys.argv
+    fk = list(csv.DictReader(open(fk_path)))
+    poses = list(csv.DictReader(open(poses_path)))
+    states = json.load(open(gaps_path))["frames"]
+    assert len(fk) == len(poses) == len(states), (len(fk), len(poses), len(states))
+
+    def joint(row, name):
+        return [float(row[f"{name}_{a}"]) for a in "xyz"]
+
+    def fk_joint(row, name):  # BVH cm, Y up -> rig mm, z up
+        src = next((k for k, v in END_SITES.items() if v == name), name)
+        x, y, z = (float(row[f"{src}_{a}"]) for a in "xyz")
+        return [10 * x, -10 * z, 10 * y]
+
+    valid = [r for r, s in zip(poses, states) if s == "measured"]
+    lengths = {b: sorted(math.dist(joint(r, b[0]), joint(r, b[1])) for r in valid) for b in BONES}
+    subject = {b: v[len(v) // 2] for b, v in lengths.items()}  # the exporter's median (upper median)
+    path = chains()
+    errors, excess, worst = [], -1e9, None
+    for f, (a, p, s) in enumerate(zip(fk, poses, states)):
+        if s != "measured":
+            continue
+        for n in NAMES:
+            e = math.dist(fk_joint(a, n), joint(p, n))
+            bound = 1.0 if exact else 1.0 + sum(abs(math.dist(joint(p, u), joint(p, v)) - subject[(u, v) if (u, v) in subject else (v, u)])
+                                                for u, v in path[n])
+            errors.append(e)
+            if e - bound > excess:
+                excess, worst = e - bound, (f, n, round(e, 3), round(bound, 3))
+    errors.sort()
+    summary = {"frames_compared": len(valid), "joints": len(NAMES), "max_mm": round(errors[-1], 4),
+               "p50_mm": round(errors[len(errors) // 2], 4), "p99_mm": round(errors[int(0.99 * (len(errors) - 1))], 4),
+               "worst_against_bound": worst, "exact": exact}
+    print(json.dumps(summary))
+    if excess > 0:
+        sys.exit(f"FAIL: frame {worst[0]} joint {worst[1]}: {worst[2]} mm off, allowed {worst[3]} mm")
+
+
+main()

@@ -1,0 +1,115 @@
+#pragma once
+// hullpose-stream's outputs, each a thin adapter over SKELETON: it turns a frame into its wire
+// form and hands it on without waiting for any receiver.
+//   VmcOutput      VMC protocol (OSC over UDP, liblo): one bundle per frame, Unity humanoid bones
+//   BvhTcpServer   BVH motion lines to every connected TCP client (drop-oldest queue per client)
+//   BvhUdpOutput   BVH motion lines as UDP datagrams to one receiver
+// The BVH skeleton (bone lengths) is taken from the first valid frame and kept for the session,
+// so every line a client sees belongs to one hierarchy.
+#include <lo/lo.h>
+
+#include <array>
+#include <boost/asio.hpp>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <utility>  // before asio (see fanout.hpp)
+#include <vector>
+
+#include "hullpose/skeleton_io/bvh.hpp"
+#include "hullpose/skeleton_io/fanout.hpp"
+#include "hullpose/skeleton_io/humanoid.hpp"
+
+namespace hullpose::stream {
+
+using skeleton_io::SkeletonFrame;
+
+// "host:port" -> parts; throws hullpose::Error naming `what` (the option).
+std::pair<std::string, int> parse_endpoint(const std::string& what, const std::string& text);
+
+// The session's BVH skeleton, fixed by the first valid frame.
+class LiveSkeleton {
+ public:
+  // False until a valid frame has fixed the skeleton.
+  bool update(const SkeletonFrame& f);
+  const skeleton_io::BvhSkeleton& bvh() const { return *bvh_; }
+  bool ready() const { return bvh_.has_value(); }
+
+ private:
+  std::optional<skeleton_io::BvhSkeleton> bvh_;
+};
+
+class VmcOutput {
+ public:
+  VmcOutput(const std::string& host, int port);
+  ~VmcOutput();
+  VmcOutput(const VmcOutput&) = delete;
+  VmcOutput& operator=(const VmcOutput&) = delete;
+  // An invalid frame sends /VMC/Ext/OK with tracking lost and no bones (receivers hold the pose).
+  void send(const SkeletonFrame& f, const LiveSkeleton& skeleton, double time_s);
+  int64_t sent() const { return sent_; }
+  int64_t failed() const { return failed_; }
+
+ private:
+  lo_address address_;
+  std::optional<skeleton_io::HumanoidMap> map_;
+  const skeleton_io::BvhSkeleton* map_for_ = nullptr;
+  std::array<skeleton_io::HumanoidBone, skeleton_io::kNumHumanoidBones> bones_{};
+  int64_t sent_ = 0, failed_ = 0;
+};
+
+enum class BvhLineFormat {
+  Plain,
+  Axis
+};  // plain motion line | "0 hullpose <values> ||" (Axis Neuron)
+BvhLineFormat parse_line_format(const std::string& text);
+// The wire text of one frame (no allocation once `out` has grown).
+void format_bvh_line(BvhLineFormat format, const std::vector<double>& channels,
+                     std::string& scratch, std::string& out);
+
+class BvhTcpServer {
+ public:
+  // Listens on 127.0.0.1/0.0.0.0 `port` (0: any free port, see port()); runs its own I/O thread.
+  // Plain format: a client first gets the HIERARCHY (once the skeleton is known), then lines.
+  BvhTcpServer(const std::string& bind, int port, BvhLineFormat format, size_t queue_capacity);
+  ~BvhTcpServer();
+  int port() const { return port_; }
+  void send(const SkeletonFrame& f, const LiveSkeleton& skeleton,
+            const std::vector<double>& channels);
+  const skeleton_io::FanoutStats& stats() const { return fanout_.stats(); }
+
+ private:
+  class Session;
+  void accept();
+
+  BvhLineFormat format_;
+  size_t capacity_;
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  skeleton_io::Fanout fanout_;
+  std::shared_ptr<const std::string> header_;  // read and written on the I/O thread only
+  bool header_sent_ = false;                   // producer thread
+  std::string scratch_, line_;
+  int port_ = 0;
+  std::thread thread_;
+};
+
+class BvhUdpOutput {
+ public:
+  BvhUdpOutput(const std::string& host, int port, BvhLineFormat format);
+  void send(const std::vector<double>& channels);
+  int64_t sent() const { return sent_; }
+  int64_t failed() const { return failed_; }
+
+ private:
+  BvhLineFormat format_;
+  boost::asio::io_context io_;
+  boost::asio::ip::udp::socket socket_;
+  boost::asio::ip::udp::endpoint to_;
+  std::string scratch_, line_;
+  int64_t sent_ = 0, failed_ = 0;
+};
+
+}  // namespace hullpose::stream
