@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/skeleton_io/asio.hpp"
 
 namespace hullpose::web {
 

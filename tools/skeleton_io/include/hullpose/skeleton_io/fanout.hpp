@@ -6,15 +6,14 @@
 // stays at `capacity` messages per session. Sessions and the fanout live on one asio
 // io_context run by one thread.
 #include <atomic>
-#include <boost/asio.hpp>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <set>
 #include <string>
-#include <utility>  // before asio: Boost 1.74's awaitable.hpp uses std::exchange without it
 #include <vector>
 
+#include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/drop_oldest_queue.hpp"
 
 namespace hullpose::skeleton_io {

@@ -9,15 +9,14 @@
 #include <lo/lo.h>
 
 #include <array>
-#include <boost/asio.hpp>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
-#include <utility>  // before asio (see fanout.hpp)
 #include <vector>
 
+#include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/bvh.hpp"
 #include "hullpose/skeleton_io/fanout.hpp"
 #include "hullpose/skeleton_io/humanoid.hpp"

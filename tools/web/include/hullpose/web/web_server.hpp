@@ -8,16 +8,15 @@
 //       /three/...   three.js from Debian's libjs-three (three.min.js, OrbitControls.js)
 //       /rig.json    the rig: capture volume and each camera's centre and axes (mm, rig frame)
 //       /stats.json  counters (sessions, sent, dropped, ...)         /ws  the WebSocket
-#include <boost/asio.hpp>
 #include <filesystem>
 #include <hullpose_msg/node_status_t.hpp>
 #include <map>
 #include <memory>
 #include <string>
 #include <thread>
-#include <utility>  // before asio (see skeleton_io/fanout.hpp)
 
 #include "hullpose/common/rig.hpp"
+#include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/fanout.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 
