@@ -124,7 +124,7 @@ void write_trc(const std::filesystem::path& path, const Take& take, const GapRep
   out << "PathFileType\t4\t(X/Y/Z)\t" << path.filename().string() << "\n";
   out << "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOri"
          "gNumFrames\n";
-  out << std::fixed << std::setprecision(2) << take.fps << '\t' << take.fps << '\t' << n << '\t'
+  out << std::fixed << std::setprecision(6) << take.fps << '\t' << take.fps << '\t' << n << '\t'
       << kNumJoints << "\tmm\t" << take.fps << "\t1\t" << n << "\n";
   out << "Frame#\tTime";
   for (auto name : kJointNames) out << '\t' << name << "\t\t";

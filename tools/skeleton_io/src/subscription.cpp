@@ -2,6 +2,8 @@
 
 #include <poll.h>
 
+#include <cerrno>
+
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/log.hpp"
@@ -32,7 +34,8 @@ Subscription::~Subscription() = default;
 bool Subscription::poll(int timeout_ms) {
   pollfd p{bus_->getFileno(), POLLIN, 0};
   const int ready = ::poll(&p, 1, timeout_ms);
-  if (ready <= 0) return ready == 0;
+  if (ready < 0) return errno == EINTR;  // a signal (the caller checks its stop flag)
+  if (ready == 0) return true;
   return bus_->handleTimeout(0) >= 0;
 }
 
