@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
     for (long long k = 0; k < count; ++k) {
       m->sample(static_cast<double>(k) / 30.0, f.joints);
       f.seq = k;
-      f.utime = start_utime + static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);  // the trigger clock
+      f.utime = start_utime +
+                static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);  // the trigger clock
       f.valid = invalid_every <= 0 || (k + 1) % invalid_every != 0;
       f.reason = f.valid ? 0 : hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
       for (size_t j = 0; j < hullpose::kNumJoints; ++j)

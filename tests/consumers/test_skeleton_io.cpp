@@ -6,12 +6,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <hullpose_msg/node_status_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <random>
 #include <sstream>
-
-#include <hullpose_msg/node_status_t.hpp>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/lcm_wire.hpp"
@@ -35,7 +34,8 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-double max_fk_error(const BvhSkeleton& s, const JointPositions& joints, const std::vector<double>& channels) {
+double max_fk_error(const BvhSkeleton& s, const JointPositions& joints,
+                    const std::vector<double>& channels) {
   std::vector<Eigen::Vector3d> pos;
   s.forward(channels, pos);
   double worst = 0;
@@ -54,8 +54,9 @@ TEST_CASE("BVH: forward kinematics of the solved channels gives back every joint
     JointPositions j0;
     m->sample(0, j0);
     const BvhSkeleton s(bone_lengths(j0));
-    CHECK(s.num_channels() == 6 + 3 * static_cast<int>(std::count_if(s.nodes().begin() + 1, s.nodes().end(),
-                                                                      [](const auto& n) { return !n.end_site; })));
+    CHECK(s.num_channels() ==
+          6 + 3 * static_cast<int>(std::count_if(s.nodes().begin() + 1, s.nodes().end(),
+                                                 [](const auto& n) { return !n.end_site; })));
     std::vector<double> channels, previous;
     std::string line;
     double worst = 0, worst_text = 0, biggest_step = 0;
@@ -72,7 +73,8 @@ TEST_CASE("BVH: forward kinematics of the solved channels gives back every joint
       REQUIRE(parsed.size() == channels.size());
       worst_text = std::max(worst_text, max_fk_error(s, j, parsed));
       if (!previous.empty())
-        for (size_t c = 3; c < channels.size(); ++c) biggest_step = std::max(biggest_step, std::abs(channels[c] - previous[c]));
+        for (size_t c = 3; c < channels.size(); ++c)
+          biggest_step = std::max(biggest_step, std::abs(channels[c] - previous[c]));
       previous = channels;
     }
     INFO(motion);
@@ -82,7 +84,8 @@ TEST_CASE("BVH: forward kinematics of the solved channels gives back every joint
   }
 }
 
-TEST_CASE("BVH: limbs folded back onto their rest direction and zero-length bones stay exact or finite") {
+TEST_CASE(
+    "BVH: limbs folded back onto their rest direction and zero-length bones stay exact or finite") {
   const auto m = synth::make_builtin_motion("tpose", {});
   JointPositions j;
   m->sample(0, j);
@@ -130,7 +133,9 @@ TEST_CASE("BVH: the hierarchy is the subject's: offsets are the median bone leng
   CHECK_THROWS_WITH(BvhSkeleton(bad), Catch::Contains("bone 4"));
 }
 
-TEST_CASE("humanoid map: the T-pose is the rest (identity rotations); a bent elbow turns only the forearm") {
+TEST_CASE(
+    "humanoid map: the T-pose is the rest (identity rotations); a bent elbow turns only the "
+    "forearm") {
   const auto m = synth::make_builtin_motion("tpose", {});
   JointPositions j;
   m->sample(0, j);
@@ -138,7 +143,9 @@ TEST_CASE("humanoid map: the T-pose is the rest (identity rotations); a bent elb
   const HumanoidMap map(s);
   std::array<HumanoidBone, kNumHumanoidBones> bones;
   map.pose(j, bones);
-  const auto angle = [](const Eigen::Quaterniond& q) { return Eigen::AngleAxisd(q).angle() * 180 / 3.14159265358979; };
+  const auto angle = [](const Eigen::Quaterniond& q) {
+    return Eigen::AngleAxisd(q).angle() * 180 / 3.14159265358979;
+  };
   std::map<std::string, double> before;
   for (const auto& b : bones) before[std::string(b.name)] = angle(b.rotation);
   JointPositions bent = j;
@@ -150,8 +157,10 @@ TEST_CASE("humanoid map: the T-pose is the rest (identity rotations); a bent elb
   for (const auto& b : bones) {
     INFO(b.name);
     const double change = std::abs(angle(b.rotation) - before[std::string(b.name)]);
-    if (b.name == "LeftLowerArm") CHECK(change == Approx(90).margin(1));
-    else CHECK(change < 1e-6);
+    if (b.name == "LeftLowerArm")
+      CHECK(change == Approx(90).margin(1));
+    else
+      CHECK(change < 1e-6);
   }
 }
 
@@ -203,7 +212,9 @@ TEST_CASE("takes: an estimate CSV with a skipped frame; bad files are errors nam
   CHECK_THROWS_WITH(read_take(d / "est.csv", -1), Catch::Contains("frame rate"));
 }
 
-TEST_CASE("takes: an lcm-logger log; malformed events counted, missing sequences inserted, rate from utime") {
+TEST_CASE(
+    "takes: an lcm-logger log; malformed events counted, missing sequences inserted, rate from "
+    "utime") {
   const fs::path d = temp_dir("log");
   {
     lcm::LogFile log((d / "take.lcmlog").string(), "w");
@@ -246,7 +257,8 @@ TEST_CASE("takes: an lcm-logger log; malformed events counted, missing sequences
   CHECK(t.frames[0].seq == 100);
   CHECK_FALSE(t.frames[4].valid);
   CHECK(t.frames[5].valid);
-  CHECK_THROWS_WITH(read_take(d / "take.lcmlog", 30, "NOPE"), Catch::Contains("no skeleton_t message on channel 'NOPE'"));
+  CHECK_THROWS_WITH(read_take(d / "take.lcmlog", 30, "NOPE"),
+                    Catch::Contains("no skeleton_t message on channel 'NOPE'"));
 }
 
 TEST_CASE("drop-oldest queue: bounded, keeps the newest, counts what it dropped") {
@@ -261,7 +273,8 @@ TEST_CASE("drop-oldest queue: bounded, keeps the newest, counts what it dropped"
   CHECK(DropOldestQueue<int>(0).capacity() == 1);
 }
 
-TEST_CASE("wire: status_ok accepts an encoded node_status_t, rejects truncation and hostile counts") {
+TEST_CASE(
+    "wire: status_ok accepts an encoded node_status_t, rejects truncation and hostile counts") {
   hullpose_msg::node_status_t s{};
   s.rig_id = "rigA";
   s.role = "camera_node";

@@ -1,9 +1,9 @@
 // A receiver that stops reading (a frozen browser, a stalled animation tool) or vanishes never
 // slows the producer or grows memory: its messages are dropped oldest first and counted, while a
 // receiver that keeps up gets the newest message. Real sockets on loopback, no LCM.
-#include <catch2/catch.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <thread>
 
@@ -36,7 +36,9 @@ void publish_until(Stats& stats, Cond done, const std::function<void(int)>& publ
 
 }  // namespace
 
-TEST_CASE("BVH over TCP: a stalled client loses old lines, a reading one gets the newest, the producer never waits") {
+TEST_CASE(
+    "BVH over TCP: a stalled client loses old lines, a reading one gets the newest, the producer "
+    "never waits") {
   stream::BvhTcpServer server("127.0.0.1", 0, stream::BvhLineFormat::Axis, 4);
   asio::io_context io;
   tcp::socket stalled = stalled_client(io, server.port());
@@ -68,11 +70,13 @@ TEST_CASE("BVH over TCP: a stalled client loses old lines, a reading one gets th
     }
   });
   int published = 0;
-  publish_until(server.stats(), [&] { return server.stats().dropped.load() > 1000; }, [&](int i) {
-    channels[0] = i;  // the root x carries the index
-    server.send(f, skeleton, channels);
-    published = i + 1;
-  });
+  publish_until(
+      server.stats(), [&] { return server.stats().dropped.load() > 1000; },
+      [&](int i) {
+        channels[0] = i;  // the root x carries the index
+        server.send(f, skeleton, channels);
+        published = i + 1;
+      });
   CHECK(server.stats().dropped.load() > 1000);
   // The last line published reaches the reading client (drop-oldest keeps the newest).
   channels[0] = 1e6;
@@ -80,7 +84,8 @@ TEST_CASE("BVH over TCP: a stalled client loses old lines, a reading one gets th
   while (last.rfind("0 hullpose 1000000.000000 ", 0) != 0) std::this_thread::yield();
   CHECK(server.stats().published.load() == published + 1);
   // Sent + dropped + still queued = published x clients: the stalled client holds at most 4 + 1.
-  const int64_t unaccounted = 2 * (published + 1) - server.stats().sent.load() - server.stats().dropped.load();
+  const int64_t unaccounted =
+      2 * (published + 1) - server.stats().sent.load() - server.stats().dropped.load();
   CHECK(unaccounted >= 0);
   CHECK(unaccounted <= 2 * (4 + 1));
   stop = true;
@@ -95,7 +100,9 @@ TEST_CASE("BVH over TCP: a stalled client loses old lines, a reading one gets th
   CHECK(server.stats().sessions.load() <= 1);
 }
 
-TEST_CASE("web: a browser that stops reading loses old skeletons (counted) and the server stays bounded") {
+TEST_CASE(
+    "web: a browser that stops reading loses old skeletons (counted) and the server stays "
+    "bounded") {
   web::WebOptions o;
   o.bind = "127.0.0.1";
   o.port = 0;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <thread>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
@@ -104,8 +105,16 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_signal);
     const int64_t end =
         o.duration_s > 0 ? start + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
-    while (!g_stop && hullpose::monotonic_us() < end)
-      HULLPOSE_THROW_UNLESS(sub.poll(100), "LCM receive failed");
+    if (tcp) {
+      // With a TCP server, LCM is read on its I/O thread (every output is sent from there):
+      // no hop between threads on the way to the clients' sockets.
+      tcp->watch_readable(sub.bus().getFileno(), [&] { sub.poll(0); });
+      while (!g_stop && hullpose::monotonic_us() < end)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    } else {
+      while (!g_stop && hullpose::monotonic_us() < end)
+        HULLPOSE_THROW_UNLESS(sub.poll(100), "LCM receive failed");
+    }
 
     nlohmann::json stats = {{"frames", frames}, {"invalid", invalid}};
     for (const auto& [name, value] : sub.counters().snapshot()) stats[name] = value;

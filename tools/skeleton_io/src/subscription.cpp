@@ -36,7 +36,13 @@ bool Subscription::poll(int timeout_ms) {
   const int ready = ::poll(&p, 1, timeout_ms);
   if (ready < 0) return errno == EINTR;  // a signal (the caller checks its stop flag)
   if (ready == 0) return true;
-  return bus_->handleTimeout(0) >= 0;
+  // Drain what is queued: a socket watched edge-triggered (asio) signals only new data.
+  for (int handled = 0; handled < 1000; ++handled) {
+    const int r = bus_->handleTimeout(0);
+    if (r < 0) return false;
+    if (r == 0) break;
+  }
+  return true;
 }
 
 void Subscription::on_skeleton(const lcm::ReceiveBuffer* rb, const std::string&) {

@@ -147,7 +147,10 @@ BvhTcpServer::BvhTcpServer(const std::string& bind, int port, BvhLineFormat form
   thread_ = std::thread([this] { io_.run(); });
 }
 
-BvhTcpServer::~BvhTcpServer() {
+BvhTcpServer::~BvhTcpServer() { stop(); }
+
+void BvhTcpServer::stop() {
+  if (!thread_.joinable()) return;
   asio::post(io_, [this] {
     boost::system::error_code ec;
     acceptor_.close(ec);

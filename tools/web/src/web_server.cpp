@@ -95,7 +95,11 @@ class WebServer::WsSession final : public skeleton_io::OutboundSession {
   WsSession(tcp::socket socket, WebServer& server)
       : OutboundSession(server.fanout_.stats(), server.capacity_),
         ws_(std::move(socket)),
-        server_(server) {}
+        server_(server) {
+    boost::system::error_code ec;
+    ws_.next_layer().set_option(tcp::no_delay(true),
+                                ec);  // a pose is small and wanted now: no Nagle
+  }
 
   void start(http::request<http::string_body> request) {
     request_ = std::move(request);
@@ -233,6 +237,11 @@ WebServer::WebServer(const WebOptions& o, std::string rig)
 }
 
 WebServer::~WebServer() {
+  stop();
+}
+
+void WebServer::stop() {
+  if (!thread_.joinable()) return;
   asio::post(io_, [this] {
     boost::system::error_code ec;
     acceptor_.close(ec);

@@ -92,18 +92,26 @@ class Fanout {
     ++stats_.sessions;
     ++stats_.accepted;
   }
-  // Any thread; never blocks.
+  // Any thread; never blocks. On the I/O thread itself (the LCM socket watched there, see
+  // watch_readable) it delivers at once: no hop between threads on the way to the socket.
   void publish(Message m) {
     ++stats_.published;
-    boost::asio::post(io_, [this, m = std::move(m)] {
+    boost::asio::dispatch(io_, [this, m = std::move(m)] {
       // deliver() may close (and so erase) a session: walk a copy (its capacity is reused).
       scratch_.assign(sessions_.begin(), sessions_.end());
       for (const auto& s : scratch_) s->deliver(m);
       scratch_.clear();
     });
   }
-  // On the I/O thread.
+  // Calls on_readable on the I/O thread whenever `fd` (not owned: e.g. the LCM socket) has
+  // data. Call before the I/O thread runs, or from it.
+  void watch_readable(int fd, std::function<void()> on_readable) {
+    watches_.push_back(std::make_unique<Watch>(io_, fd, std::move(on_readable)));
+    watches_.back()->arm();
+  }
+  // On the I/O thread: stop watching, close every session.
   void close_all() {
+    for (auto& w : watches_) w->stop();
     const auto now = sessions_;
     for (const auto& s : now) s->close();
   }
@@ -111,7 +119,30 @@ class Fanout {
   FanoutStats& stats() { return stats_; }
 
  private:
+  struct Watch {
+    Watch(boost::asio::io_context& io, int fd, std::function<void()> f)
+        : descriptor(io, fd), on_readable(std::move(f)) {}
+    ~Watch() { stop(); }
+    void arm() {
+      descriptor.async_wait(boost::asio::posix::descriptor_base::wait_read,
+                            [this](boost::system::error_code ec) {
+                              if (ec) return;
+                              on_readable();
+                              arm();
+                            });
+    }
+    void stop() {
+      if (!descriptor.is_open()) return;
+      boost::system::error_code ec;
+      descriptor.cancel(ec);
+      descriptor.release();  // the fd belongs to its owner (LCM)
+    }
+    boost::asio::posix::stream_descriptor descriptor;
+    std::function<void()> on_readable;
+  };
+
   boost::asio::io_context& io_;
+  std::vector<std::unique_ptr<Watch>> watches_;
   std::set<std::shared_ptr<OutboundSession>> sessions_;
   std::vector<std::shared_ptr<OutboundSession>> scratch_;
   FanoutStats stats_;

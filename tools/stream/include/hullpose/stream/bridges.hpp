@@ -75,6 +75,13 @@ class BvhTcpServer {
   BvhTcpServer(const std::string& bind, int port, BvhLineFormat format, size_t queue_capacity);
   ~BvhTcpServer();
   int port() const { return port_; }
+  // Closes every session and joins the I/O thread (idempotent; the destructor calls it). Call it
+  // before destroying what a watch_readable callback uses.
+  void stop();
+  // As WebServer::watch_readable: the LCM socket handled on this server's I/O thread.
+  void watch_readable(int fd, std::function<void()> on_readable) {
+    fanout_.watch_readable(fd, std::move(on_readable));
+  }
   void send(const SkeletonFrame& f, const LiveSkeleton& skeleton,
             const std::vector<double>& channels);
   const skeleton_io::FanoutStats& stats() const { return fanout_.stats(); }

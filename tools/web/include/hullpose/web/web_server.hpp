@@ -46,6 +46,14 @@ class WebServer {
   WebServer& operator=(const WebServer&) = delete;
 
   int port() const { return port_; }
+  // Closes every session and joins the I/O thread (idempotent; the destructor calls it). Call it
+  // before destroying what a watch_readable callback uses.
+  void stop();
+  // Runs on_readable on the server's I/O thread when fd has data (the LCM socket: then a
+  // skeleton goes from LCM to every browser's socket on one thread). Call once, before traffic.
+  void watch_readable(int fd, std::function<void()> on_readable) {
+    fanout_.watch_readable(fd, std::move(on_readable));
+  }
   // Any thread; never blocks on a browser.
   void publish_skeleton(const skeleton_io::SkeletonFrame& f);
   void publish_status(const hullpose_msg::node_status_t& s);
