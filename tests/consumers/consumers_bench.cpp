@@ -13,15 +13,17 @@
 #include <boost/beast/websocket.hpp>
 #include <chrono>
 #include <cstdio>
-#include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <vector>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
+#include "hullpose/msg/wire.hpp"
 #include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
@@ -60,138 +62,134 @@ double pct(std::vector<double> v, double q) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    std::string url;
-    int web_port = 0, vmc_port = 0, bvh_port = 0;
-    long long frames = 300, warm = 10;
-    double rate = 30;
-    hullpose::cli::CommandLine cl(
-        "usage: consumers_bench --lcm-url URL --web-port P --vmc-port P --bvh-port P [--frames "
-        "300] [--rate 30]\n");
-    cl.option("--lcm-url", url)
-        .option("--web-port", web_port)
-        .option("--vmc-port", vmc_port)
-        .option("--bvh-port", bvh_port)
-        .option("--frames", frames)
-        .option("--rate", rate);
-    if (!cl.parse(argc, argv)) return 0;
-    const auto n = static_cast<size_t>(frames);
-    Arrivals direct(n), web(n), vmc(n), bvh(n);
+int run(int argc, const char* const* argv) {
+  std::string url;
+  int web_port = 0, vmc_port = 0, bvh_port = 0;
+  long long frames = 300, warm = 10;
+  double rate = 30;
+  hullpose::cli::CommandLine cl(
+      "usage: consumers_bench --lcm-url URL --web-port P --vmc-port P --bvh-port P [--frames "
+      "300] [--rate 30]\n");
+  cl.option("--lcm-url", url)
+      .option("--web-port", web_port)
+      .option("--vmc-port", vmc_port)
+      .option("--bvh-port", bvh_port)
+      .option("--frames", frames)
+      .option("--rate", rate);
+  if (!cl.parse(argc, argv)) return 0;
+  const auto n = static_cast<size_t>(frames);
+  Arrivals direct(n), web(n), vmc(n), bvh(n);
 
-    lcm::LCM bus(url);
-    HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << url << "' cannot be opened");
-    struct Direct {
-      Arrivals* a;
-      void on(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::skeleton_t* m) {
-        a->mark(static_cast<size_t>(m->trigger_seq));
-      }
-    } d{&direct};
-    bus.subscribe("SKELETON", &Direct::on, &d);
-    std::atomic<bool> stop{false};
-    std::thread lcm_thread([&] {
-      while (!stop) bus.handleTimeout(50);
-    });
+  const auto bus = hullpose::bus::open_bus(url);
+  hullpose_msg::skeleton_t seen;
+  const auto baseline =
+      bus->subscribe("SKELETON", [&](std::span<const uint8_t> bytes, const std::string&) {
+        if (hullpose::wire::decode(bytes, seen)) direct.mark(static_cast<size_t>(seen.trigger_seq));
+      });
+  std::atomic<bool> stop{false};
+  std::thread lcm_thread([&] {
+    while (!stop) bus->handle(50);
+  });
 
-    lo_server_thread osc = lo_server_thread_new(std::to_string(vmc_port).c_str(), nullptr);
-    HULLPOSE_THROW_UNLESS(osc, "cannot listen for OSC on port " << vmc_port);
-    lo_server_thread_add_method(osc, "/VMC/Ext/OK", nullptr, on_vmc_ok, &vmc);
-    lo_server_thread_start(osc);
+  lo_server_thread osc = lo_server_thread_new(std::to_string(vmc_port).c_str(), nullptr);
+  HULLPOSE_THROW_UNLESS(osc, "cannot listen for OSC on port " << vmc_port);
+  lo_server_thread_add_method(osc, "/VMC/Ext/OK", nullptr, on_vmc_ok, &vmc);
+  lo_server_thread_start(osc);
 
-    asio::io_context io;
-    namespace websocket = boost::beast::websocket;
-    websocket::stream<tcp::socket> ws(io);
-    ws.next_layer().connect(
-        {asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(web_port)});
-    ws.handshake("127.0.0.1", "/ws");
-    std::thread ws_thread([&] {
-      boost::beast::flat_buffer buf;
-      boost::system::error_code ec;
-      while (!stop) {
-        ws.read(buf, ec);
-        if (ec) break;
-        const int64_t now = hullpose::monotonic_us();
-        const auto j =
-            nlohmann::json::parse(boost::beast::buffers_to_string(buf.data()), nullptr, false);
-        buf.clear();
-        if (j.is_object() && j.value("type", "") == "skeleton")
-          web.mark_at(j["seq"].get<size_t>(), now);
-      }
-    });
-    tcp::socket bvh_socket(io);
-    bvh_socket.connect(
-        {asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(bvh_port)});
-    bvh_socket.set_option(tcp::no_delay(true));
-    std::thread bvh_thread([&] {
-      asio::streambuf buf;
-      boost::system::error_code ec;
-      std::string line;
-      while (!stop) {
-        asio::read_until(bvh_socket, buf, '\n', ec);
-        if (ec) break;
-        std::istream in(&buf);
-        std::getline(in, line);
-        bvh.mark(static_cast<size_t>(bvh.count.load()));
-      }
-    });
-    std::this_thread::sleep_for(
-        std::chrono::milliseconds(500));  // all subscribers joined (set-up, not measured)
-
-    const auto m = hullpose::synth::make_builtin_motion("walk", {});
-    hullpose::skeleton_io::SkeletonFrame f;
-    hullpose_msg::skeleton_t msg;
-    const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
-    auto next = std::chrono::steady_clock::now();
-    const int64_t utime0 = hullpose::realtime_utime();
-    for (size_t k = 0; k < n; ++k) {
-      m->sample(static_cast<double>(k) / rate, f.joints);
-      f.seq = static_cast<int64_t>(k);
-      f.utime = utime0 + static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);
-      f.valid = true;
-      f.confidence.fill(1.f);
-      hullpose::skeleton_io::to_message(f, "bench", msg);
-      bus.publish("SKELETON", &msg);
-      next += period;
-      std::this_thread::sleep_until(next);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // stragglers
-    stop = true;
+  asio::io_context io;
+  namespace websocket = boost::beast::websocket;
+  websocket::stream<tcp::socket> ws(io);
+  ws.next_layer().connect(
+      {asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(web_port)});
+  ws.handshake("127.0.0.1", "/ws");
+  std::thread ws_thread([&] {
+    boost::beast::flat_buffer buf;
     boost::system::error_code ec;
-    ws.next_layer().shutdown(tcp::socket::shutdown_both, ec);
-    bvh_socket.shutdown(tcp::socket::shutdown_both, ec);
-    ws_thread.join();
-    bvh_thread.join();
-    lcm_thread.join();
-    lo_server_thread_free(osc);
-
-    for (auto [name, arrivals] :
-         {std::pair<const char*, Arrivals*>{"web", &web}, {"vmc", &vmc}, {"bvh_tcp", &bvh}}) {
-      std::vector<double> added;
-      int64_t lost = 0;
-      for (size_t k = static_cast<size_t>(warm); k < n; ++k) {
-        if (!direct.at[k] || !arrivals->at[k]) {
-          ++lost;
-          continue;
-        }
-        added.push_back(static_cast<double>(arrivals->at[k] - direct.at[k]) / 1000.0);
-      }
-      std::printf(
-          "%s\n",
-          nlohmann::json{
-              {"name", std::string("consumers_added_latency_") + name + "_30hz"},
-              {"median_ms", pct(added, 0.5)},
-              {"p99_ms", pct(added, 0.99)},
-              {"max_ms", added.empty() ? 0 : *std::max_element(added.begin(), added.end())},
-              {"n", added.size()},
-              {"lost", lost},
-              {"rate_hz", rate},
-              {"baseline", "arrival of SKELETON at a plain LCM subscriber in the same process"}}
-              .dump()
-              .c_str());
+    while (!stop) {
+      ws.read(buf, ec);
+      if (ec) break;
+      const int64_t now = hullpose::monotonic_us();
+      const auto j =
+          nlohmann::json::parse(boost::beast::buffers_to_string(buf.data()), nullptr, false);
+      buf.clear();
+      if (j.is_object() && j.value("type", "") == "skeleton")
+        web.mark_at(j["seq"].get<size_t>(), now);
     }
-    return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "consumers_bench: error: %s\n", e.what());
-    return 2;
+  });
+  tcp::socket bvh_socket(io);
+  bvh_socket.connect({asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(bvh_port)});
+  bvh_socket.set_option(tcp::no_delay(true));
+  std::thread bvh_thread([&] {
+    asio::streambuf buf;
+    boost::system::error_code ec;
+    std::string line;
+    while (!stop) {
+      asio::read_until(bvh_socket, buf, '\n', ec);
+      if (ec) break;
+      std::istream in(&buf);
+      std::getline(in, line);
+      bvh.mark(static_cast<size_t>(bvh.count.load()));
+    }
+  });
+  std::this_thread::sleep_for(
+      std::chrono::milliseconds(500));  // all subscribers joined (set-up, not measured)
+
+  const auto m = hullpose::synth::make_builtin_motion("walk", {});
+  hullpose::skeleton_io::SkeletonFrame f;
+  hullpose_msg::skeleton_t msg;
+  std::vector<uint8_t> scratch;
+  const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
+  auto next = std::chrono::steady_clock::now();
+  const int64_t utime0 = hullpose::realtime_utime();
+  for (size_t k = 0; k < n; ++k) {
+    m->sample(static_cast<double>(k) / rate, f.joints);
+    f.seq = static_cast<int64_t>(k);
+    f.utime = utime0 + static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);
+    f.valid = true;
+    f.confidence.fill(1.f);
+    hullpose::skeleton_io::to_message(f, "bench", msg);
+    hullpose::wire::publish(*bus, "SKELETON", msg, scratch);
+    next += period;
+    std::this_thread::sleep_until(next);
   }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // stragglers
+  stop = true;
+  boost::system::error_code ec;
+  ws.next_layer().shutdown(tcp::socket::shutdown_both, ec);
+  bvh_socket.shutdown(tcp::socket::shutdown_both, ec);
+  ws_thread.join();
+  bvh_thread.join();
+  lcm_thread.join();
+  lo_server_thread_free(osc);
+
+  for (auto [name, arrivals] :
+       {std::pair<const char*, Arrivals*>{"web", &web}, {"vmc", &vmc}, {"bvh_tcp", &bvh}}) {
+    std::vector<double> added;
+    int64_t lost = 0;
+    for (size_t k = static_cast<size_t>(warm); k < n; ++k) {
+      if (!direct.at[k] || !arrivals->at[k]) {
+        ++lost;
+        continue;
+      }
+      added.push_back(static_cast<double>(arrivals->at[k] - direct.at[k]) / 1000.0);
+    }
+    std::printf(
+        "%s\n",
+        nlohmann::json{
+            {"name", std::string("consumers_added_latency_") + name + "_30hz"},
+            {"median_ms", pct(added, 0.5)},
+            {"p99_ms", pct(added, 0.99)},
+            {"max_ms", added.empty() ? 0 : *std::max_element(added.begin(), added.end())},
+            {"n", added.size()},
+            {"lost", lost},
+            {"rate_hz", rate},
+            {"baseline", "arrival of SKELETON at a plain LCM subscriber in the same process"}}
+            .dump()
+            .c_str());
+  }
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  return hullpose::run_tool("consumers_bench", argc, argv, run);
 }

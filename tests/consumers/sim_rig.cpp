@@ -7,91 +7,91 @@
 #include <cstdio>
 #include <filesystem>
 #include <hullpose_msg/node_status_t.hpp>
-#include <lcm/lcm-cpp.hpp>
 #include <thread>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
+#include "hullpose/msg/wire.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
 #include "hullpose/synth/rig_gen.hpp"
 
-int main(int argc, char** argv) {
-  try {
-    std::string url, motion = "walk", rig_out, wait_file;
-    double rate = 30;
-    long long count = 90, invalid_every = 10;
-    hullpose::cli::CommandLine cl(
-        "usage: consumers_sim_rig --lcm-url URL [--motion walk] [--rate 30] [--count 90] "
-        "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE]\n");
-    cl.option("--lcm-url", url)
-        .option("--motion", motion)
-        .option("--rate", rate)
-        .option("--count", count)
-        .option("--invalid-every", invalid_every)
-        .option("--rig-out", rig_out)
-        .option("--wait-file", wait_file);
-    if (!cl.parse(argc, argv)) return 0;
-    const hullpose::Rig rig = hullpose::synth::rig_from_name_or_file("thesis8");
-    if (!rig_out.empty()) hullpose::save_rig(rig, rig_out);
-    lcm::LCM bus(url);
-    HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << url << "' cannot be opened");
-    hullpose::synth::MotionOptions mo;
-    mo.centre_mm = 0.5 * (rig.volume.min_mm + rig.volume.max_mm);
-    mo.centre_mm.z() = 0;
-    const auto m = hullpose::synth::make_motion(motion, mo);
-    while (!wait_file.empty() && !std::filesystem::exists(wait_file))
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+int run(int argc, const char* const* argv) {
+  std::string url, motion = "walk", rig_out, wait_file;
+  double rate = 30;
+  long long count = 90, invalid_every = 10;
+  hullpose::cli::CommandLine cl(
+      "usage: consumers_sim_rig --lcm-url URL [--motion walk] [--rate 30] [--count 90] "
+      "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE]\n");
+  cl.option("--lcm-url", url)
+      .option("--motion", motion)
+      .option("--rate", rate)
+      .option("--count", count)
+      .option("--invalid-every", invalid_every)
+      .option("--rig-out", rig_out)
+      .option("--wait-file", wait_file);
+  if (!cl.parse(argc, argv)) return 0;
+  const hullpose::Rig rig = hullpose::synth::rig_from_name_or_file("thesis8");
+  if (!rig_out.empty()) hullpose::save_rig(rig, rig_out);
+  const auto bus = hullpose::bus::open_bus(url);
+  std::vector<uint8_t> scratch;
+  hullpose::synth::MotionOptions mo;
+  mo.centre_mm = 0.5 * (rig.volume.min_mm + rig.volume.max_mm);
+  mo.centre_mm.z() = 0;
+  const auto m = hullpose::synth::make_motion(motion, mo);
+  while (!wait_file.empty() && !std::filesystem::exists(wait_file))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
 
-    hullpose::skeleton_io::SkeletonFrame f;
-    hullpose_msg::skeleton_t msg;
-    const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
-    auto next = std::chrono::steady_clock::now();
-    const int64_t start_utime = hullpose::realtime_utime();
-    for (long long k = 0; k < count; ++k) {
-      m->sample(static_cast<double>(k) / 30.0, f.joints);
-      f.seq = k;
-      f.utime = start_utime +
-                static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);  // the trigger clock
-      f.valid = invalid_every <= 0 || (k + 1) % invalid_every != 0;
-      f.reason = f.valid ? 0 : hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
-      for (size_t j = 0; j < hullpose::kNumJoints; ++j)
-        f.confidence[j] = j == 8 || j == 9 ? 0.4f : 1.f;  // hands less sure
-      f.num_cameras_used = f.valid ? 8 : 3;
-      f.cameras_used_mask = f.valid ? 0xFF : 0x07;
-      f.published_us = 42'000 + static_cast<int32_t>(k % 7) * 1000;
-      hullpose::skeleton_io::to_message(f, rig.rig_id, msg);
-      bus.publish("SKELETON", &msg);
-      if (k % static_cast<long long>(rate) == 0) {
-        for (int c = -1; c < static_cast<int>(rig.cameras.size()); ++c) {
-          hullpose_msg::node_status_t s{};
-          s.utime = hullpose::realtime_utime();
-          s.rig_id = rig.rig_id;
-          s.role = c < 0 ? "fusion_host" : "camera_node";
-          s.node_id = c < 0 ? -1 : rig.cameras[static_cast<size_t>(c)].id;
-          s.hostname = "sim";
-          s.state = hullpose_msg::node_status_t::STATE_RUNNING;
-          s.fps = static_cast<float>(rate);
-          s.frames_total = k;
-          s.last_trigger_seq = k;
-          s.num_stages = 0;
-          s.counter_name = c < 0
-                               ? std::vector<std::string>{"late"}
+  hullpose::skeleton_io::SkeletonFrame f;
+  hullpose_msg::skeleton_t msg;
+  const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
+  auto next = std::chrono::steady_clock::now();
+  const int64_t start_utime = hullpose::realtime_utime();
+  for (long long k = 0; k < count; ++k) {
+    m->sample(static_cast<double>(k) / 30.0, f.joints);
+    f.seq = k;
+    f.utime = start_utime +
+              static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);  // the trigger clock
+    f.valid = invalid_every <= 0 || (k + 1) % invalid_every != 0;
+    f.reason = f.valid ? 0 : hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
+    for (size_t j = 0; j < hullpose::kNumJoints; ++j)
+      f.confidence[j] = j == 8 || j == 9 ? 0.4f : 1.f;  // hands less sure
+    f.num_cameras_used = f.valid ? 8 : 3;
+    f.cameras_used_mask = f.valid ? 0xFF : 0x07;
+    f.published_us = 42'000 + static_cast<int32_t>(k % 7) * 1000;
+    hullpose::skeleton_io::to_message(f, rig.rig_id, msg);
+    hullpose::wire::publish(*bus, "SKELETON", msg, scratch);
+    if (k % static_cast<long long>(rate) == 0) {
+      for (int c = -1; c < static_cast<int>(rig.cameras.size()); ++c) {
+        hullpose_msg::node_status_t s{};
+        s.utime = hullpose::realtime_utime();
+        s.rig_id = rig.rig_id;
+        s.role = c < 0 ? "fusion_host" : "camera_node";
+        s.node_id = c < 0 ? -1 : rig.cameras[static_cast<size_t>(c)].id;
+        s.hostname = "sim";
+        s.state = hullpose_msg::node_status_t::STATE_RUNNING;
+        s.fps = static_cast<float>(rate);
+        s.frames_total = k;
+        s.last_trigger_seq = k;
+        s.num_stages = 0;
+        s.counter_name = c < 0 ? std::vector<std::string>{"late"}
                                : std::vector<std::string>{"queue_full", "trigger_residual_mean_us",
                                                           "trigger_residual_max_us"};
-          s.counter_value =
-              c < 0 ? std::vector<int64_t>{0} : std::vector<int64_t>{c, 150 + 10 * c, 400 + 20 * c};
-          s.num_counters = static_cast<int32_t>(s.counter_name.size());
-          bus.publish("STATUS", &s);
-        }
+        s.counter_value =
+            c < 0 ? std::vector<int64_t>{0} : std::vector<int64_t>{c, 150 + 10 * c, 400 + 20 * c};
+        s.num_counters = static_cast<int32_t>(s.counter_name.size());
+        hullpose::wire::publish(*bus, "STATUS", s, scratch);
       }
-      next += period;
-      std::this_thread::sleep_until(next);  // the rig's trigger clock
     }
-    return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "consumers_sim_rig: error: %s\n", e.what());
-    return 2;
+    next += period;
+    std::this_thread::sleep_until(next);  // the rig's trigger clock
   }
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  return hullpose::run_tool("consumers_sim_rig", argc, argv, run);
 }

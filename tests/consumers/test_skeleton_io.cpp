@@ -1,23 +1,24 @@
 // The consumers' shared layer: BVH skeleton (forward kinematics gives back the joints, Euler
 // curves stay continuous, degenerate bones), humanoid map, gap filling, take reading (estimate
 // CSV, lcm-logger log with malformed events and missing sequences, bad files), the drop-oldest
-// queue and the STATUS wire check.
+// queue and the live subscription (memq://).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <hullpose_msg/node_status_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <random>
 #include <sstream>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
-#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/msg/wire.hpp"
 #include "hullpose/skeleton_io/bvh.hpp"
 #include "hullpose/skeleton_io/drop_oldest_queue.hpp"
 #include "hullpose/skeleton_io/gaps.hpp"
 #include "hullpose/skeleton_io/humanoid.hpp"
+#include "hullpose/skeleton_io/subscription.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
 
@@ -273,26 +274,33 @@ TEST_CASE("drop-oldest queue: bounded, keeps the newest, counts what it dropped"
   CHECK(DropOldestQueue<int>(0).capacity() == 1);
 }
 
-TEST_CASE(
-    "wire: status_ok accepts an encoded node_status_t, rejects truncation and hostile counts") {
+TEST_CASE("subscription: skeletons and statuses from the bus; malformed and foreign ones counted") {
+  const auto bus = bus::open_bus("memq://");
+  int skeletons = 0, statuses = 0;
+  SubscriptionOptions o;
+  o.rig_id = "rigA";
+  Subscription sub(
+      *bus, o, [&](const SkeletonFrame& f, int64_t) { skeletons += f.seq == 7 ? 1 : 100; },
+      [&](const hullpose_msg::node_status_t& s) { statuses += s.role == "camera_node" ? 1 : 100; });
+  SkeletonFrame f;
+  f.seq = 7;
+  f.valid = true;
+  hullpose_msg::skeleton_t msg;
+  to_message(f, "rigA", msg);
+  wire::publish(*bus, "SKELETON", msg);
+  to_message(f, "rigB", msg);
+  wire::publish(*bus, "SKELETON", msg);
+  const std::vector<uint8_t> garbage = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  bus->publish("SKELETON", garbage);
+  bus->publish("STATUS", garbage);
   hullpose_msg::node_status_t s{};
   s.rig_id = "rigA";
   s.role = "camera_node";
-  s.hostname = "cam0";
-  s.message = "ok";
-  s.stage_name = {"capture", "subtract"};
-  s.stage_ms = {1.f, 2.f};
-  s.num_stages = 2;
-  s.counter_name = {"late"};
-  s.counter_value = {3};
-  s.num_counters = 1;
-  std::vector<uint8_t> b(static_cast<size_t>(s.getEncodedSize()));
-  s.encode(b.data(), 0, static_cast<int>(b.size()));
-  CHECK(wire::status_ok(b.data(), b.size()));
-  for (size_t n = 0; n < b.size(); ++n) CHECK_FALSE(wire::status_ok(b.data(), n));
-  // num_stages sits after the four strings and fixed fields: make it huge.
-  const size_t at = 8 + 8 + (4 + 5) + (4 + 12) + 4 + (4 + 5) + 1 + (4 + 3) + 4 + 8 + 8;
-  auto hostile = b;
-  hostile[at] = 0x7f;
-  CHECK_FALSE(wire::status_ok(hostile.data(), hostile.size()));
+  wire::publish(*bus, "STATUS", s);
+  sub.poll(0);
+  CHECK(skeletons == 1);
+  CHECK(statuses == 1);
+  CHECK(sub.counters().get("malformed_skeleton") == 1);
+  CHECK(sub.counters().get("malformed_status") == 1);
+  CHECK(sub.counters().get("foreign_rig") == 1);
 }

@@ -14,6 +14,7 @@
 #   fusion host  hullpose-fusion-host: assembly per trigger -> carve -> clean-up -> thin -> pose
 #                tree -> fit -> SKELETON
 #   listener     hullpose-listen: live fps and latency, skeletons to CSV
+#   live view    hullpose-web: the URL is printed; open it to watch the rig (tools/web/README.md)
 # The rate: 8 nodes subtracting 800x600 backgrounds and a fusion host share this machine's cores
 # (a real rig has a board per camera), so the demo triggers at HULLPOSE_DEMO_RATE (default 10 Hz;
 # measured: 15 Hz keeps every view, at 30 Hz a few views miss the host's deadline while other
@@ -40,6 +41,20 @@ cp "$work/data/rig.yaml" "$work/rig.yaml"
 "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/data/rig.yaml" "{url}" "{wire}" rgb
 say "camera nodes: hullpose-camera-node x $num (RGB replay, one frame per trigger edge, Horprasert background subtraction)"
 say "fusion host: hullpose-fusion-host (carve -> clean-up -> thin -> pose tree -> fit)"
+# The live view: hullpose-web on the rig's LCM URL (rig-loopback.sh takes its port from
+# HULLPOSE_RIG_PORT), on HULLPOSE_DEMO_WEB_PORT (default 8080; any free port if that is taken).
+export HULLPOSE_RIG_PORT=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
+web_url="udpm://239.255.76.67:$HULLPOSE_RIG_PORT?ttl=0"
+start_web() {
+  rm -f "$work/web.json"
+  "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --lcm-url "$web_url" --port "$1" --ready-file "$work/web.json" \
+    2> "$work/web.log" & web_pid=$!
+  for _ in $(seq 100); do [[ -s $work/web.json ]] && return 0; kill -0 "$web_pid" 2>/dev/null || return 1; sleep 0.05; done
+  return 1
+}
+start_web "${HULLPOSE_DEMO_WEB_PORT:-8080}" || start_web 0 || { cat "$work/web.log" >&2; exit 1; }
+trap 'kill "$web_pid" 2>/dev/null || true' EXIT
+say "live view: open $(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['url'])" "$work/web.json") in a browser (hullpose-web)"
 say "starting the rig: trigger master at $rate Hz, $num camera nodes, fusion host, listener (LCM loopback, ttl=0)"
 LIVE=1 "$root/tools/demo/rig-loopback.sh" "$build" "$work" "$frames" "$rate" "$num" \
   "$node --config $work/node{cam}.yaml" "$host --rig {rig} --min-cameras 6 --deadline-ms $(( 900 / rate )) ${HULLPOSE_DEMO_HOST_ARGS:-}"
@@ -65,4 +80,8 @@ for key in ("mpjpe_mm", "hands_feet_mpjpe_mm", "pck100_pct", "valid_pct"):
     if key in live and key in replay:
         print(f"  {key:22s} live (background subtraction) {live[key]:8.2f}   offline (exact masks) {replay[key]:8.2f}", file=sys.stderr)
 PY
+"$build/tools/export/hullpose-export" --in "$work/estimates.csv" --fps "$rate" --bvh "$work/take.bvh" --trc "$work/take.trc" \
+  --c3d "$work/take.c3d" 2> "$work/export.log"
+say "the take exported (hullpose-export): $work/take.bvh (Blender, game engines), take.trc (OpenSim), take.c3d"
+say "watch it again: $build/tools/web/hullpose-web --rig $work/rig.yaml --play $work/estimates.csv --fps $rate"
 say "done in $(( SECONDS - start )) s; skeletons in $work/skeletons.csv, logs in $work"

@@ -6,7 +6,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
-#include "hullpose/common/log.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/skeleton_io/export.hpp"
 
 namespace {
@@ -17,28 +17,22 @@ const char* kUsage =
     "FILE.json]\n";
 }  // namespace
 
+int run(int argc, const char* const* argv) {
+  hullpose::skeleton_io::ExportOptions o;
+  hullpose::cli::CommandLine cl(kUsage);
+  cl.option("--in", o.input)
+      .option("--bvh", o.bvh)
+      .option("--trc", o.trc)
+      .option("--c3d", o.c3d)
+      .option("--fps", o.fps)
+      .option("--channel", o.channel)
+      .option("--max-gap-ms", o.max_gap_ms)
+      .option("--gaps", o.gaps_json);
+  if (!cl.parse(argc, argv)) return 0;
+  std::fprintf(stderr, "hullpose-export: %s\n", hullpose::skeleton_io::export_take(o).c_str());
+  return 0;
+}
+
 int main(int argc, char** argv) {
-  try {
-    if (const char* spec = std::getenv("HULLPOSE_LOG")) hullpose::log::set_levels(spec);
-    hullpose::skeleton_io::ExportOptions o;
-    hullpose::cli::CommandLine cl(kUsage);
-    cl.option("--in", o.input)
-        .option("--bvh", o.bvh)
-        .option("--trc", o.trc)
-        .option("--c3d", o.c3d)
-        .option("--fps", o.fps)
-        .option("--channel", o.channel)
-        .option("--max-gap-ms", o.max_gap_ms)
-        .option("--gaps", o.gaps_json);
-    if (!cl.parse(argc, argv)) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    const std::string summary = hullpose::skeleton_io::export_take(o);
-    std::fprintf(stderr, "hullpose-export: %s\n", summary.c_str());
-    return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "hullpose-export: error: %s\n", e.what());
-    return 2;
-  }
+  return hullpose::run_tool("hullpose-export", argc, argv, run);
 }

@@ -6,10 +6,11 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
-#include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/skeleton_io/subscription.hpp"
 #include "hullpose/web/web_server.hpp"
 
@@ -26,81 +27,81 @@ const char* kUsage =
     "         [--page DIR] [--three DIR] [--duration-s S] [--ready-file FILE]\n";
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, const char* const* argv) {
   namespace sio = hullpose::skeleton_io;
-  try {
-    if (const char* spec = std::getenv("HULLPOSE_LOG")) hullpose::log::set_levels(spec);
-    hullpose::web::WebOptions w;
-    w.page_dir = HULLPOSE_WEB_PAGE_DIR;
-    sio::SubscriptionOptions sub;
-    std::string rig_file, play, page = w.page_dir.string(), three = w.three_dir.string(),
-                                ready_file;
-    long long queue = 8;
-    double fps = 30, duration_s = 0;
-    bool once = false;
-    hullpose::cli::CommandLine cl(kUsage);
-    cl.option("--rig", rig_file)
-        .option("--lcm-url", sub.lcm_url)
-        .option("--rig-id", sub.rig_id)
-        .option("--port", w.port)
-        .option("--bind", w.bind)
-        .option("--queue", queue)
-        .option("--play", play)
-        .option("--fps", fps)
-        .flag("--once", once)
-        .option("--page", page)
-        .option("--three", three)
-        .option("--duration-s", duration_s)
-        .option("--ready-file", ready_file);
-    if (!cl.parse(argc, argv)) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    HULLPOSE_THROW_UNLESS(w.port >= 0 && w.port <= 65535,
-                          "--port must be in 0..65535, got " << w.port);
-    HULLPOSE_THROW_UNLESS(queue >= 1 && queue <= 4096, "--queue must be in 1..4096, got " << queue);
-    w.queue_capacity = static_cast<size_t>(queue);
-    w.page_dir = page;
-    w.three_dir = three;
-    hullpose::Rig rig;
-    if (!rig_file.empty()) rig = hullpose::load_rig(rig_file);
-    hullpose::web::WebServer server(w, hullpose::web::rig_json(rig));
-    const std::string url = "http://localhost:" + std::to_string(server.port()) + "/";
-    std::fprintf(stderr, "hullpose-web: %s at %s\n",
-                 play.empty() ? "live view" : ("playback of " + play).c_str(), url.c_str());
-    if (!ready_file.empty())
-      std::ofstream(ready_file) << nlohmann::json{{"port", server.port()}, {"url", url}}.dump()
-                                << "\n";
+  hullpose::web::WebOptions w;
+  w.page_dir = HULLPOSE_WEB_PAGE_DIR;
+  sio::SubscriptionOptions sub;
+  std::string lcm_url, rig_file, play, page = w.page_dir.string(), three = w.three_dir.string(),
+                                       ready_file;
+  long long queue = 8;
+  double fps = 30, duration_s = 0;
+  bool once = false;
+  hullpose::cli::CommandLine cl(kUsage);
+  cl.option("--rig", rig_file)
+      .option("--lcm-url", lcm_url)
+      .option("--rig-id", sub.rig_id)
+      .option("--port", w.port)
+      .option("--bind", w.bind)
+      .option("--queue", queue)
+      .option("--play", play)
+      .option("--fps", fps)
+      .flag("--once", once)
+      .option("--page", page)
+      .option("--three", three)
+      .option("--duration-s", duration_s)
+      .option("--ready-file", ready_file);
+  if (!cl.parse(argc, argv)) return 0;
+  HULLPOSE_THROW_UNLESS(w.port >= 0 && w.port <= 65535,
+                        "--port must be in 0..65535, got " << w.port);
+  HULLPOSE_THROW_UNLESS(queue >= 1 && queue <= 4096, "--queue must be in 1..4096, got " << queue);
+  w.queue_capacity = static_cast<size_t>(queue);
+  w.page_dir = page;
+  w.three_dir = three;
+  hullpose::Rig rig;
+  if (!rig_file.empty()) rig = hullpose::load_rig(rig_file);
+  hullpose::web::WebServer server(w, hullpose::web::rig_json(rig));
+  const std::string url = "http://localhost:" + std::to_string(server.port()) + "/";
+  std::fprintf(stderr, "hullpose-web: %s at %s\n",
+               play.empty() ? "live view" : ("playback of " + play).c_str(), url.c_str());
+  if (!ready_file.empty())
+    std::ofstream(ready_file) << nlohmann::json{{"port", server.port()}, {"url", url}}.dump()
+                              << "\n";
 
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
-    const int64_t start = hullpose::monotonic_us();
-    const int64_t end = duration_s > 0 ? start + static_cast<int64_t>(duration_s * 1e6) : INT64_MAX;
-    if (!play.empty()) {
-      const sio::Take take = sio::read_take(play, fps);
-      HULLPOSE_THROW_UNLESS(!take.frames.empty(), play << ": no frames");
-      const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / take.fps));
-      auto next = std::chrono::steady_clock::now();
-      for (size_t i = 0; !g_stop && hullpose::monotonic_us() < end; ++i) {
-        if (i == take.frames.size()) {
-          if (once) break;
-          i = 0;
-        }
-        server.publish_skeleton(take.frames[i]);
-        next += period;
-        std::this_thread::sleep_until(next);  // the take's own clock
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const int64_t start = hullpose::monotonic_us();
+  const int64_t end = duration_s > 0 ? start + static_cast<int64_t>(duration_s * 1e6) : INT64_MAX;
+  if (!play.empty()) {
+    const sio::Take take = sio::read_take(play, fps);
+    HULLPOSE_THROW_UNLESS(!take.frames.empty(), play << ": no frames");
+    const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / take.fps));
+    auto next = std::chrono::steady_clock::now();
+    for (size_t i = 0; !g_stop && hullpose::monotonic_us() < end; ++i) {
+      if (i == take.frames.size()) {
+        if (once) break;
+        i = 0;
       }
-    } else {
-      sio::Subscription live(
-          sub, [&](const sio::SkeletonFrame& f, int64_t) { server.publish_skeleton(f); },
-          [&](const hullpose_msg::node_status_t& s) { server.publish_status(s); });
-      while (!g_stop && hullpose::monotonic_us() < end)
-        HULLPOSE_THROW_UNLESS(live.poll(100), "LCM receive failed");
+      server.publish_skeleton(take.frames[i]);
+      next += period;
+      std::this_thread::sleep_until(next);  // the take's own clock
     }
-    std::fprintf(stderr, "hullpose-web: %s\n", server.stats_json().c_str());
-    return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "hullpose-web: error: %s\n", e.what());
-    return 2;
+  } else {
+    const auto bus = hullpose::bus::open_bus(lcm_url);
+    sio::Subscription live(
+        *bus, sub, [&](const sio::SkeletonFrame& f, int64_t) { server.publish_skeleton(f); },
+        [&](const hullpose_msg::node_status_t& s) { server.publish_status(s); });
+    // LCM is read on the server's I/O thread: a pose reaches the browsers' sockets without a hop
+    // between threads (make bench: tools/bench/peers/consumers_latency.sh).
+    server.watch_readable(live.fd(), [&] { live.poll(0); });
+    while (!g_stop && hullpose::monotonic_us() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    server.stop();  // before `live` goes: its socket is watched on the server's thread
   }
+  std::fprintf(stderr, "hullpose-web: %s\n", server.stats_json().c_str());
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  return hullpose::run_tool("hullpose-web", argc, argv, run);
 }

@@ -8,7 +8,7 @@
 #include <map>
 
 #include "hullpose/common/check.hpp"
-#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace hullpose::skeleton_io {
 namespace {
@@ -33,8 +33,11 @@ Take read_log(const std::filesystem::path& path, double fps, const std::string& 
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != channel) continue;
     SkeletonFrame f;
-    if (e->datalen < 0 || !wire::skeleton_ok(e->data, static_cast<size_t>(e->datalen)) ||
-        msg.decode(e->data, 0, e->datalen) != e->datalen || !from_message(msg, f)) {
+    if (e->datalen < 0 ||
+        !wire::decode(std::span<const uint8_t>(static_cast<const uint8_t*>(e->data),
+                                               static_cast<size_t>(e->datalen)),
+                      msg) ||
+        !from_message(msg, f)) {
       ++take.malformed;
       continue;
     }

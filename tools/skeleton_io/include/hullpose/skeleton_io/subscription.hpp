@@ -1,21 +1,21 @@
 #pragma once
-// The live side of every consumer: an LCM subscription to SKELETON (and, for those who want the
-// rig's health, STATUS). Bytes are bounds-checked (common/lcm_wire.hpp) before the lcm-gen
-// decoder; malformed messages are counted, never thrown. Handlers run on the thread that calls
-// poll(), the consumer's main loop.
+// The live side of every consumer: subscriptions to SKELETON (and, for those who want the rig's
+// health, STATUS) on the process's one bus (common/bus.hpp, opened by main). Bytes go through
+// wire::decode (bounds-checked before lcm-gen's decoder); malformed messages and other rigs'
+// are counted, never thrown. Handlers run on the thread that calls poll() — the consumer's main
+// loop, or a server's I/O thread watching bus.fd().
 #include <functional>
 #include <hullpose_msg/node_status_t.hpp>
-#include <lcm/lcm-cpp.hpp>
-#include <memory>
 #include <string>
+#include <vector>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/counters.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 
 namespace hullpose::skeleton_io {
 
 struct SubscriptionOptions {
-  std::string lcm_url;  // "" = LCM's default
   std::string skeleton_channel = "SKELETON";
   std::string status_channel = "STATUS";  // "" = not subscribed
   std::string rig_id;  // "" = any rig; otherwise other rigs are counted and dropped
@@ -26,31 +26,28 @@ class Subscription {
   using SkeletonHandler = std::function<void(const SkeletonFrame&, int64_t received_mono_us)>;
   using StatusHandler = std::function<void(const hullpose_msg::node_status_t&)>;
 
-  // Throws hullpose::Error when the LCM URL cannot be opened.
-  Subscription(const SubscriptionOptions& options, SkeletonHandler on_skeleton,
+  // `bus` outlives the subscription.
+  Subscription(bus::Bus& bus, const SubscriptionOptions& options, SkeletonHandler on_skeleton,
                StatusHandler on_status = {});
-  ~Subscription();
-  Subscription(const Subscription&) = delete;
-  Subscription& operator=(const Subscription&) = delete;
 
-  // Handles what has arrived, waiting up to timeout_ms for the first message. False on an LCM
-  // error.
-  bool poll(int timeout_ms);
+  // Handles everything that has arrived, waiting up to timeout_ms for the first message.
+  void poll(int timeout_ms);
+  int fd() const { return bus_.fd(); }
   const Counters& counters() const { return counters_; }
-  lcm::LCM& bus() { return *bus_; }
 
  private:
-  void on_skeleton(const lcm::ReceiveBuffer* rb, const std::string& channel);
-  void on_status(const lcm::ReceiveBuffer* rb, const std::string& channel);
+  void on_skeleton(std::span<const uint8_t> bytes);
+  void on_status(std::span<const uint8_t> bytes);
 
+  bus::Bus& bus_;
   SubscriptionOptions options_;
-  std::unique_ptr<lcm::LCM> bus_;
   SkeletonHandler on_skeleton_;
   StatusHandler on_status_;
   Counters counters_;
   hullpose_msg::skeleton_t msg_;
   hullpose_msg::node_status_t status_;
   SkeletonFrame frame_;
+  std::vector<bus::Subscription> subscriptions_;
 };
 
 }  // namespace hullpose::skeleton_io

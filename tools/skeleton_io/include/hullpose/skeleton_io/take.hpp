@@ -15,12 +15,19 @@
 
 namespace hullpose::skeleton_io {
 
+// Eigen leaves vectors uninitialised: frames start with every joint at the origin.
+inline JointPositions zero_joints() {
+  JointPositions j;
+  j.fill(Eigen::Vector3d::Zero());
+  return j;
+}
+
 struct SkeletonFrame {
-  int64_t utime = 0;        // trigger instant (0 when the source has no clock: estimate CSV)
-  int64_t seq = 0;          // trigger sequence (the frame number of an estimate CSV)
-  bool valid = false;       // a fresh estimate of this instant (skeleton_t.valid)
-  int reason = 0;           // skeleton_t REASON_*
-  JointPositions joints{};  // mm, rig frame (z up)
+  int64_t utime = 0;   // trigger instant (0 when the source has no clock: estimate CSV)
+  int64_t seq = 0;     // trigger sequence (the frame number of an estimate CSV)
+  bool valid = false;  // a fresh estimate of this instant (skeleton_t.valid)
+  int reason = 0;      // skeleton_t REASON_*
+  JointPositions joints = zero_joints();  // mm, rig frame (z up)
   std::array<float, kNumJoints> confidence{};
   int64_t cameras_used_mask = 0;
   int num_cameras_used = 0;

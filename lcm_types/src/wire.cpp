@@ -1,4 +1,4 @@
-#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/msg/wire.hpp"
 
 #include <cstring>
 
@@ -8,7 +8,7 @@ namespace {
 // LCM encodes big-endian; the 8-byte type fingerprint comes first (the decoder checks it).
 class Cursor {
  public:
-  Cursor(const void* data, size_t size) : p_(static_cast<const uint8_t*>(data)), size_(size) {}
+  explicit Cursor(std::span<const uint8_t> bytes) : p_(bytes.data()), size_(bytes.size()) {}
   bool skip(size_t n) {
     if (!ok_ || n > size_ - pos_) return ok_ = false;
     pos_ += n;
@@ -31,6 +31,12 @@ class Cursor {
     if (len < 1 || len > kMaxString) return ok_ = false;
     return skip(static_cast<size_t>(len));
   }
+  // An array length field: false (and the cursor failed) unless 0 <= n <= max.
+  int32_t count(int32_t max) {
+    const int32_t n = i32();
+    if (n < 0 || n > max) ok_ = false;
+    return ok_ ? n : 0;
+  }
   bool done() const { return ok_ && pos_ == size_; }
   bool ok() const { return ok_; }
 
@@ -43,41 +49,38 @@ class Cursor {
 
 }  // namespace
 
-bool silhouette_ok(const void* data, size_t size) {
-  Cursor c(data, size);
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::silhouette_t*) {
+  Cursor c(bytes);
   c.skip(8 + 8);                  // fingerprint, utime
   c.string();                     // rig_id
   c.skip(4 + 8 + 8 + 6 * 4 + 1);  // camera_id, trigger_seq, capture_utime, sizes and ROI, encoding
-  const int32_t payload = c.i32();
-  if (payload < 0 || payload > kMaxPayload) return false;
-  c.skip(static_cast<size_t>(payload));
+  c.skip(static_cast<size_t>(c.count(kMaxPayload)));
   c.skip(4 * 4 + 8);  // node timings, node_done_utime
   return c.done();
 }
 
-bool trigger_ok(const void* data, size_t size) {
-  Cursor c(data, size);
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::trigger_t*) {
+  Cursor c(bytes);
   c.skip(8 + 8);
   c.string();
   c.skip(8 + 4 + 4 + 8);  // seq, period_us, pulse_width_us, epoch
   return c.done();
 }
 
-bool skeleton_ok(const void* data, size_t size) {
-  Cursor c(data, size);
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::skeleton_t*) {
+  Cursor c(bytes);
   c.skip(8 + 8);
   c.string();
   c.skip(8 + 4);  // trigger_seq, subject_id
-  const int32_t joints = c.i32();
-  if (joints < 0 || joints > kMaxJoints) return false;
+  const int32_t joints = c.count(kMaxJoints);
   for (int32_t i = 0; i < joints && c.ok(); ++i) c.string();
   c.skip(static_cast<size_t>(joints) * (3 * 4 + 4));  // position, confidence
   c.skip(1 + 1 + 8 + 4 + 5 * 4);  // valid, reason, cameras_used_mask, num_cameras_used, latencies
   return c.done();
 }
 
-bool status_ok(const void* data, size_t size) {
-  Cursor c(data, size);
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::node_status_t*) {
+  Cursor c(bytes);
   c.skip(8 + 8);
   c.string();         // rig_id
   c.string();         // role
@@ -86,13 +89,13 @@ bool status_ok(const void* data, size_t size) {
   c.skip(1);          // state
   c.string();         // message
   c.skip(4 + 8 + 8);  // fps, frames_total, last_trigger_seq
-  const auto named_values = [&c](size_t value_size) {
-    const int32_t n = c.i32();
-    if (n < 0 || n > kMaxJoints) return false;
-    for (int32_t i = 0; i < n && c.ok(); ++i) c.string();
-    return c.skip(static_cast<size_t>(n) * value_size);
-  };
-  return named_values(4) && named_values(8) && c.done();  // stages (float ms), counters (int64)
+  const int32_t stages = c.count(kMaxStatusEntries);
+  for (int32_t i = 0; i < stages && c.ok(); ++i) c.string();
+  c.skip(static_cast<size_t>(stages) * 4);
+  const int32_t counters = c.count(kMaxStatusEntries);
+  for (int32_t i = 0; i < counters && c.ok(); ++i) c.string();
+  c.skip(static_cast<size_t>(counters) * 8);
+  return c.done();
 }
 
 }  // namespace hullpose::wire
