@@ -132,32 +132,17 @@ class BvhTcpServer::Session final : public skeleton_io::OutboundSession {
 
 BvhTcpServer::BvhTcpServer(const std::string& bind, int port, BvhLineFormat format, size_t capacity)
     : format_(format), capacity_(capacity), acceptor_(io_), fanout_(io_) {
-  boost::system::error_code ec;
-  const asio::ip::address address = asio::ip::make_address(bind, ec);
-  HULLPOSE_THROW_UNLESS(!ec, "--bvh-bind: '" << bind << "' is not an IP address");
-  const tcp::endpoint endpoint(address, static_cast<unsigned short>(port));
-  acceptor_.open(endpoint.protocol(), ec);
-  if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
-  if (!ec) acceptor_.bind(endpoint, ec);
-  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
-  HULLPOSE_THROW_UNLESS(
-      !ec, "--bvh-tcp: cannot listen on " << bind << ":" << port << ": " << ec.message());
-  port_ = acceptor_.local_endpoint().port();
+  port_ = skeleton_io::listen_on(acceptor_, bind, port, "--bvh-tcp");
   accept();
   thread_ = std::thread([this] { io_.run(); });
 }
 
-BvhTcpServer::~BvhTcpServer() { stop(); }
+BvhTcpServer::~BvhTcpServer() {
+  stop();
+}
 
 void BvhTcpServer::stop() {
-  if (!thread_.joinable()) return;
-  asio::post(io_, [this] {
-    boost::system::error_code ec;
-    acceptor_.close(ec);
-    fanout_.close_all();
-    io_.stop();
-  });
-  if (thread_.joinable()) thread_.join();
+  skeleton_io::stop_service(io_, acceptor_, fanout_, thread_);
 }
 
 void BvhTcpServer::accept() {

@@ -221,17 +221,7 @@ WebServer::WebServer(const WebOptions& o, std::string rig)
     : capacity_(o.queue_capacity), acceptor_(io_), fanout_(io_) {
   load_assets(o);
   assets_["/rig.json"] = {std::move(rig), "application/json"};
-  boost::system::error_code ec;
-  const asio::ip::address address = asio::ip::make_address(o.bind, ec);
-  HULLPOSE_THROW_UNLESS(!ec, "--bind: '" << o.bind << "' is not an IP address");
-  const tcp::endpoint endpoint(address, static_cast<unsigned short>(o.port));
-  acceptor_.open(endpoint.protocol(), ec);
-  if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
-  if (!ec) acceptor_.bind(endpoint, ec);
-  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
-  HULLPOSE_THROW_UNLESS(
-      !ec, "--port: cannot listen on " << o.bind << ":" << o.port << ": " << ec.message());
-  port_ = acceptor_.local_endpoint().port();
+  port_ = skeleton_io::listen_on(acceptor_, o.bind, o.port, "--port");
   accept();
   thread_ = std::thread([this] { io_.run(); });
 }
@@ -241,14 +231,7 @@ WebServer::~WebServer() {
 }
 
 void WebServer::stop() {
-  if (!thread_.joinable()) return;
-  asio::post(io_, [this] {
-    boost::system::error_code ec;
-    acceptor_.close(ec);
-    fanout_.close_all();
-    io_.stop();
-  });
-  if (thread_.joinable()) thread_.join();
+  skeleton_io::stop_service(io_, acceptor_, fanout_, thread_);
 }
 
 void WebServer::accept() {

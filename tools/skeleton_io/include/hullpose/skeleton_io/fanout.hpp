@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hullpose/skeleton_io/asio.hpp"
@@ -147,5 +148,14 @@ class Fanout {
   std::vector<std::shared_ptr<OutboundSession>> scratch_;
   FanoutStats stats_;
 };
+
+// Opens `acceptor` on bind:port (port 0: any free one) and returns the port; hullpose::Error
+// naming `option` (the command-line option that asked for it) when it cannot.
+int listen_on(boost::asio::ip::tcp::acceptor& acceptor, const std::string& bind, int port,
+              const std::string& option);
+// From any thread but the I/O one: on the I/O thread close the acceptor and every session, then
+// stop; join the thread. Does nothing once joined.
+void stop_service(boost::asio::io_context& io, boost::asio::ip::tcp::acceptor& acceptor,
+                  Fanout& fanout, std::thread& thread);
 
 }  // namespace hullpose::skeleton_io
