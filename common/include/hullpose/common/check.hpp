@@ -34,7 +34,13 @@ namespace detail {
     }                                                                      \
   } while (0)
 
-#define HULLPOSE_THROW(stream_expr) HULLPOSE_THROW_UNLESS(false, stream_expr)
+// Unconditional, so that even an unoptimised build sees the function end here (-Wreturn-type).
+#define HULLPOSE_THROW(stream_expr)                                        \
+  do {                                                                     \
+    std::ostringstream hullpose_msg_;                                      \
+    hullpose_msg_ << stream_expr;                                          \
+    ::hullpose::detail::throw_error(hullpose_msg_.str());                  \
+  } while (0)
 
 #define HULLPOSE_ASSERT(cond)                                              \
   do {                                                                     \
