@@ -166,7 +166,7 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
     TriggerConfig& t = c.trigger;
     t.enabled = true;
     r.only_keys(trigger, "trigger", {"edges", "chip", "line", "path", "camera", "channel", "max_residual_us", "wait_ms",
-                                     "connect_timeout_ms", "clock_offset_ms"});
+                                     "connect_timeout_ms", "clock_offset_ms", "clock_step_ms", "clock_step_after"});
     const std::string edges = r.string(trigger, "edges", "trigger", true);
     const auto only_for = [&](const char* key, const char* kind) {
       HULLPOSE_THROW_UNLESS(!Reader::present(trigger[key]),
@@ -196,6 +196,8 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
     t.wait_ms = r.integer(trigger, "wait_ms", "trigger", false, t.wait_ms, 0, 10'000);
     t.connect_timeout_ms = r.integer(trigger, "connect_timeout_ms", "trigger", false, t.connect_timeout_ms, 0, 600'000);
     t.clock_offset_ms = r.integer(trigger, "clock_offset_ms", "trigger", false, 0, -3'600'000, 3'600'000);
+    t.clock_step_ms = r.integer(trigger, "clock_step_ms", "trigger", false, 0, -3'600'000, 3'600'000);
+    t.clock_step_after = r.integer(trigger, "clock_step_after", "trigger", false, 0, 0, 1 << 30);
   }
   return c;
 }

@@ -55,7 +55,7 @@ bool TriggerClient::pump(int wait_ms, Done&& done) {
 
 int64_t TriggerClient::to_node_clock(int64_t frame_utime) const {
   // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
-  return frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
+  return frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset();
 }
 
 void TriggerClient::offer(int64_t frame_id, int64_t frame_utime, std::vector<TaggedFrame>& decided) {

@@ -34,6 +34,8 @@
 //     wait_ms: 50                   # how long a frame waits for its edge's announcement
 //     connect_timeout_ms: 10000     # wire: how long start() waits for the master's socket
 //     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in production)
+//     clock_step_ms: 0              # tests: the board clock steps by this much (an NTP step) ...
+//     clock_step_after: 0           # ... once this many frames have been stamped
 // With a trigger, a camera that exposes on the trigger line (libcamera/v4l2 with external trigger)
 // gets each frame tagged with its edge; a simulated sensor (file, synthetic) exposes exactly one
 // frame per edge, showing the instant of that trigger.
@@ -85,6 +87,8 @@ struct TriggerConfig {
   int wait_ms = 50;
   int connect_timeout_ms = 10000;
   int clock_offset_ms = 0;
+  int clock_step_ms = 0;
+  int clock_step_after = 0;
 };
 
 struct NodeConfig {

@@ -6,6 +6,7 @@
 // Times are on the node clock: CLOCK_MONOTONIC plus a configured offset (a board whose clock is
 // off by that much; 0 in production). Everything that compares with edge times (announcement
 // receive times, sensor timestamps) must use NodeClock with the same offset.
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -15,6 +16,9 @@ namespace hullpose::trigger {
 
 struct NodeClock {
   int64_t offset_us = 0;
+  // Tests: a step of the board clock at run time (trigger.clock_step_ms), shared by every copy.
+  std::shared_ptr<std::atomic<int64_t>> step_us = std::make_shared<std::atomic<int64_t>>(0);
+  int64_t offset() const { return offset_us + step_us->load(std::memory_order_relaxed); }
   int64_t now_us() const;
 };
 
