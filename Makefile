@@ -6,10 +6,11 @@ BUILD_FUZZ  ?= build-fuzz
 JOBS        ?= $(shell nproc)
 CMAKE_FLAGS ?=
 FUZZ_SECONDS ?= 60
+SOAK_MINUTES ?= 10
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz format clean
+.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz soak format clean
 
 all: build
 
@@ -46,7 +47,12 @@ bench: build
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE) -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_FUZZ=ON $(CMAKE_FLAGS)
 	$(CMAKE) --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_targets
-	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)
+	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)   # FUZZ_RUNS=N: N executions per target
+
+# The rig for SOAK_MINUTES in network namespaces (root): 8 nodes + master + host + listener at
+# 30 Hz with 1 % loss; JSON summary in $(BUILD)/soak.json (tests/system/soak.sh).
+soak: build
+	tests/system/soak.sh $(BUILD) $(SOAK_MINUTES) $(BUILD)/soak.json
 
 format:
 	@git ls-files '*.cpp' '*.hpp' '*.cu' '*.cuh' | xargs clang-format -i
