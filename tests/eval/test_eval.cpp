@@ -6,6 +6,7 @@
 
 #include "fixtures.hpp"
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/eval/cli.hpp"
 #include "hullpose/eval/metrics.hpp"
 #include "hullpose/eval/report.hpp"
@@ -51,7 +52,9 @@ Cli run(const std::vector<std::string>& args) {
   for (const auto& a : args) argv.push_back(a.c_str());
   std::ostringstream out, err;
   Cli c;
-  c.status = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  c.status = hullpose::run_tool(
+      "hullpose-eval", static_cast<int>(argv.size()), argv.data(),
+      [&out](int argc, const char* const* v) { return run_cli(argc, v, out); }, err);
   c.out = out.str();
   c.err = err.str();
   return c;

@@ -29,6 +29,7 @@
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "seq_pattern.hpp"
 
 namespace {
@@ -138,7 +139,7 @@ class Attacker {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return hullpose::run_tool("rig_attacker", argc, argv, [](int c, const char* const* v) {
     std::string url;
     long long factor = 10;
     double duration_s = 3600;
@@ -149,10 +150,7 @@ int main(int argc, char** argv) {
         .option("--factor", factor)
         .option("--duration-s", duration_s)
         .option("--seed", seed);
-    if (!cl.parse(argc, argv)) {
-      std::fputs(cl.usage().c_str(), stdout);
-      return 0;
-    }
+    if (!cl.parse(c, v)) return 0;
     HULLPOSE_THROW_UNLESS(factor >= 1 && factor <= 1000,
                           "--factor must be 1..1000, got " << factor);
     lcm::LCM bus(url);
@@ -167,8 +165,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rig_attacker: heard %lld genuine messages, published %lld forged ones\n",
                  attacker.heard(), attacker.sent());
     return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "rig_attacker: error: %s\n", e.what());
-    return 2;
-  }
+  });
 }

@@ -21,6 +21,7 @@
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -44,7 +45,7 @@ sockaddr_in parse_endpoint(const std::string& what, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return hullpose::run_tool("rig_datagram_relay", argc, argv, [](int c, const char* const* v) {
     std::string from_text, to_text;
     long long swap_every = 0, dup_every = 0;
     double duration_s = 3600;
@@ -57,10 +58,7 @@ int main(int argc, char** argv) {
         .option("--swap-every", swap_every)
         .option("--duplicate-every", dup_every)
         .option("--duration-s", duration_s);
-    if (!cl.parse(argc, argv)) {
-      std::fputs(cl.usage().c_str(), stdout);
-      return 0;
-    }
+    if (!cl.parse(c, v)) return 0;
     const sockaddr_in from = parse_endpoint("--from", from_text),
                       to = parse_endpoint("--to", to_text);
     const int in = socket(AF_INET, SOCK_DGRAM, 0), out = socket(AF_INET, SOCK_DGRAM, 0);
@@ -116,8 +114,5 @@ int main(int argc, char** argv) {
     close(in);
     close(out);
     return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "rig_datagram_relay: error: %s\n", e.what());
-    return 2;
-  }
+  });
 }

@@ -7,6 +7,7 @@
 
 #include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/fusion_host/fusion_service.hpp"
 #include "rig_fixtures.hpp"
 #include "seq_check_pipeline.hpp"
@@ -152,11 +153,13 @@ TEST_CASE("service command line: --help exits 0 before anything opens; bad optio
     args.reserve(options.size() + 1);
     for (const char* o : options) args.push_back(o);
     bool built = false;
-    const int rc = fusion::service_main(static_cast<int>(args.size()), const_cast<char**>(args.data()), "fusion-host-test",
-                                        [&built](const Rig&, const fusion::PipelineOptions&) -> std::unique_ptr<fusion::FramePipeline> {
-                                          built = true;
-                                          return nullptr;
-                                        });
+    const int rc = run_tool("fusion-host-test", static_cast<int>(args.size()), args.data(), [&built](int c, const char* const* v) {
+      return fusion::service_main(c, v, "fusion-host-test",
+                                  [&built](const Rig&, const fusion::PipelineOptions&) -> std::unique_ptr<fusion::FramePipeline> {
+                                    built = true;
+                                    return nullptr;
+                                  });
+    });
     CHECK_FALSE(built);
     return rc;
   };

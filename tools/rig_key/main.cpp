@@ -8,6 +8,7 @@
 #include "hullpose/auth/rig_key.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/tool.hpp"
 
 namespace {
 const char* kUsage =
@@ -16,14 +17,11 @@ const char* kUsage =
 }
 
 int main(int argc, char** argv) {
-  try {
+  return hullpose::run_tool("hullpose-rig-key", argc, argv, [](int c, const char* const* v) {
     std::string output, check;
     hullpose::cli::CommandLine cl(kUsage);
     cl.option("--output", output).option("--check", check);
-    if (!cl.parse(argc, argv)) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
+    if (!cl.parse(c, v)) return 0;
     HULLPOSE_THROW_UNLESS(output.empty() != check.empty(),
                           "give one of --output FILE or --check FILE (see --help)");
     if (!output.empty()) {
@@ -35,8 +33,5 @@ int main(int argc, char** argv) {
                   hullpose::auth::RigKey::load(check).id());
     }
     return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "hullpose-rig-key: error: %s\n", e.what());
-    return 2;
-  }
+  });
 }

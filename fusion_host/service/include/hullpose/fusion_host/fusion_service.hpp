@@ -83,9 +83,9 @@ struct PipelineOptions {
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
 // --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the pipeline with
-// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
-// Returns the process exit code; errors print "<tool>: error: ..." and return 2.
-int service_main(int argc, char** argv, const char* tool,
+// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration. Returns the exit
+// code; throws hullpose::Error on bad options or files (run it inside run_tool, common/tool.hpp).
+int service_main(int argc, const char* const* argv, const char* tool,
                  const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline);
 
 }  // namespace hullpose::fusion

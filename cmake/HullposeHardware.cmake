@@ -1,0 +1,23 @@
+# Optional camera-board libraries (HULLPOSE_LIBCAMERA, HULLPOSE_GPIOD: AUTO | ON | OFF). Sets
+# HULLPOSE_HAVE_LIBCAMERA / HULLPOSE_HAVE_LIBGPIOD; the targets PkgConfig::LIBCAMERA and
+# PkgConfig::LIBGPIOD exist only when they are on.
+function(hullpose_optional_pkg var mode module)
+  if(mode STREQUAL "OFF")
+    set(HULLPOSE_HAVE_${var} OFF PARENT_SCOPE)
+    return()
+  endif()
+  if(mode STREQUAL "ON")
+    pkg_check_modules(${var} REQUIRED IMPORTED_TARGET GLOBAL ${module})
+  else()
+    pkg_check_modules(${var} IMPORTED_TARGET GLOBAL ${module})
+  endif()
+  set(HULLPOSE_HAVE_${var} ${${var}_FOUND} PARENT_SCOPE)
+  if(NOT ${var}_FOUND)
+    message(STATUS "hullpose: ${module} not found: its backend is left out of this build")
+  endif()
+endfunction()
+
+hullpose_optional_pkg(LIBCAMERA "${HULLPOSE_LIBCAMERA}" libcamera)
+hullpose_optional_pkg(LIBGPIOD "${HULLPOSE_GPIOD}" libgpiodcxx)
+message(STATUS "hullpose: libcamera source ${HULLPOSE_HAVE_LIBCAMERA}, libgpiod trigger ${HULLPOSE_HAVE_LIBGPIOD}, "
+               "synthetic source ${HULLPOSE_SYNTHETIC_SOURCE}")
