@@ -32,11 +32,8 @@ key() { if (( auth )); then echo "--rig-key $1/rig.key"; fi; }
 rig_files() {  # rig_files RIG_ID DIR URL WIRE: rig, masks, node configs, key
   mkdir -p "$2"
   "$build/tests/rig/rig_write_test_rig" "$2/rig.yaml" "$num" 160 120 "$1" "$frames"
-  "$root/tools/demo/node-configs.sh" "$2" "$num" "$2/rig.yaml" "$3" "$4" masks:seq
   "$build/tools/rig_key/hullpose-rig-key" --output "$2/rig.key" > /dev/null
-  for ((c = 0; c < num && auth; c++)); do
-    sed -i "s|^lcm: { url: \"\([^\"]*\)\"|lcm: { url: \"\1\", rig_key: \"$2/rig.key\"|" "$2/node$c.yaml"
-  done
+  RIG_KEY=$( (( auth )) && echo "$2/rig.key") "$root/tools/demo/node-configs.sh" "$2" "$num" "$2/rig.yaml" "$3" "$4" masks:seq
 }
 start_host() {  # start_host DIR URL [LOG]
   rm -f "$1/host.ready"

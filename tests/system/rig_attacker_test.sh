@@ -15,11 +15,8 @@ frames=${2:-150} num=${3:-4} rate=30 factor=10
 seconds=$(( frames / rate + 40 ))
 
 "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" "$num" 160 120 rigA "$frames"
-"$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
 "$build/tools/rig_key/hullpose-rig-key" --output "$work/rig.key" > /dev/null
-for ((c = 0; c < num; c++)); do
-  sed -i "s|^lcm: { url: \"\([^\"]*\)\"|lcm: { url: \"\1\", rig_key: \"$work/rig.key\"|" "$work/node$c.yaml"
-done
+RIG_KEY="$work/rig.key" "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
 "$netns" create "$prefix" $(( num + 1 )) > /dev/null  # cam<NUM> is the attacker's host
 key=(--rig-key "$work/rig.key")
 

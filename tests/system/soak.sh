@@ -12,7 +12,7 @@
 # usage: soak.sh BUILD_DIR [MINUTES=10] [OUT_JSON]     (root; KEEP_WORK=1 keeps the logs)
 # The nodes replay a looping recording of 1024 sequence-coded masks (160x120, decoded into
 # memory at start), so their memory is flat by construction and any growth is the code's.
-# If RIG_KEY is set (a key file), every process authenticates its messages with it.
+# Every process authenticates its messages with the rig's key (AUTH=0: without, to compare).
 source "$(dirname "$0")/rig_lib.sh"
 rig_init "$1" soak sk
 minutes=${2:-10} out_json=${3:-}
@@ -21,21 +21,26 @@ frames=$(( minutes * 60 * rate ))
 warm_s=$(( minutes * 60 / 10 > 60 ? minutes * 60 / 10 : 60 ))  # RSS baseline after this
 
 "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" "$num" 160 120 rigA "$period"
-SOURCE_EXTRA="preload: true, loop: true" "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
+auth=${AUTH:-1} key=()
+if (( auth )); then
+  "$build/tools/rig_key/hullpose-rig-key" --output "$work/rig.key" > /dev/null
+  key=(--rig-key "$work/rig.key")
+fi
+RIG_KEY=${key[1]:-} SOURCE_EXTRA="preload: true, loop: true" "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
 "$netns" create "$prefix" "$num" >/dev/null
 for ((c = 0; c < num; c++)); do "$netns" loss "$prefix" "cam$c" "$port" 100; done
 
 seconds=$(( frames / rate + 60 ))
 spawn "$work/host.log" fusion "$build/tests/rig/rig_stub_fusion_host" --seq-period "$period" --rig "$work/rig.yaml" \
-  --lcm-url "$url" --min-cameras $(( num - 3 )) --duration-s $(( seconds + 30 )) --ready-file "$work/host.ready"
+  --lcm-url "$url" "${key[@]}" --min-cameras $(( num - 3 )) --duration-s $(( seconds + 30 )) --ready-file "$work/host.ready"
 host=$spawned
-spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url "$url" --output "$work/skeletons.csv" \
+spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url "$url" "${key[@]}" --output "$work/skeletons.csv" \
   --count "$frames" --duration-s $(( seconds + 30 )) --summary "$work/summary.json" --ready-file "$work/listen.ready"
 listener=$spawned
 wait_until 20 test -f "$work/listen.ready"
 wait_until 20 test -f "$work/host.ready"
 spawn "$work/master.log" master "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate "$rate" \
-  --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num"
+  --line "wire:$wire" --lcm-url "$url" "${key[@]}" --count "$frames" --wait-nodes "$num"
 master=$spawned
 wait_until 10 test -S "$wire"
 cams=()
