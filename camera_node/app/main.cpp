@@ -26,7 +26,9 @@ int run(int argc, const char* const* argv) {
   line.option("--config", config);
   if (!line.parse(argc, argv)) return 0;
   HULLPOSE_THROW_UNLESS(!config.empty(), "missing --config FILE (see --help)");
-  camera_node::CameraNode node(camera_node::load_node_config(config));
+  const camera_node::NodeConfig node_config = camera_node::load_node_config(config);
+  const std::unique_ptr<bus::Bus> bus = camera_node::open_node_bus(node_config);
+  camera_node::CameraNode node(node_config, *bus);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   node.start();

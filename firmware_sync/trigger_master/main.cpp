@@ -6,18 +6,20 @@
 #include <cstdio>
 #include <hullpose_msg/node_status_t.hpp>
 #include <iostream>
-#include <lcm/lcm-cpp.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/clock.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
 #include "hullpose/common/tool.hpp"
 #include "hullpose/firmware_sync/trigger_master.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -59,8 +61,8 @@ std::optional<Options> parse(int argc, const char* const* argv) {
   return o;
 }
 
-void publish_status(lcm::LCM& bus, hullpose::sync::TriggerMaster& m, const std::string& rig_id,
-                    const std::string& line) {
+void publish_status(hullpose::bus::Bus& bus, hullpose::sync::TriggerMaster& m,
+                    const std::string& rig_id, const std::string& line) {
   hullpose_msg::node_status_t s{};
   s.utime = hullpose::realtime_utime();
   s.rig_id = rig_id;
@@ -84,7 +86,7 @@ void publish_status(lcm::LCM& bus, hullpose::sync::TriggerMaster& m, const std::
   s.counter_name = {"missed_slots"};
   s.counter_value = {m.missed_slots()};
   s.num_counters = 1;
-  bus.publish("STATUS", &s);
+  hullpose::wire::publish(bus, "STATUS", s);
 }
 
 HULLPOSE_LOG_CATEGORY(Main, "trigger_master")
@@ -143,9 +145,7 @@ int run(int argc, const char* const* argv) {
   const std::optional<Options> parsed = parse(argc, argv);
   if (!parsed) return 0;
   const Options& o = *parsed;
-  lcm::LCM bus(o.lcm_url);
-  HULLPOSE_THROW_UNLESS(
-      bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
+  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url);
   auto line = hullpose::sync::open_trigger_line(o.line);
   if (o.wait_nodes > 0) {
     const size_t got = line->wait_for_nodes(static_cast<size_t>(o.wait_nodes), 60'000);
@@ -153,14 +153,11 @@ int run(int argc, const char* const* argv) {
                           "only " << got << " of " << o.wait_nodes << " camera nodes connected to "
                                   << line->describe() << " within 60 s");
   }
-  hullpose::sync::SystemClock clock;
+  hullpose::Clock& clock = hullpose::system_clock();
   std::vector<uint8_t> buf(4096);
   hullpose::sync::TriggerMaster master(
       o.master, *line, clock,
-      [&](const hullpose_msg::trigger_t& t) {
-        const int n = t.encode(buf.data(), 0, static_cast<int>(buf.size()));
-        if (n > 0) bus.publish("TRIGGER", buf.data(), static_cast<unsigned>(n));
-      },
+      [&](const hullpose_msg::trigger_t& t) { hullpose::wire::publish(*bus, "TRIGGER", t, buf); },
       hullpose::sync::new_epoch());
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -171,12 +168,12 @@ int run(int argc, const char* const* argv) {
   int64_t next_status = clock.monotonic_us();
   master.run([&] {
     if (clock.monotonic_us() >= next_status) {
-      publish_status(bus, master, o.master.rig_id, line->describe());
+      publish_status(*bus, master, o.master.rig_id, line->describe());
       next_status += 1'000'000;
     }
     return !g_stop && (o.count == 0 || master.next_seq() < o.count);
   });
-  publish_status(bus, master, o.master.rig_id, line->describe());
+  publish_status(*bus, master, o.master.rig_id, line->describe());
   std::fprintf(stderr,
                "hullpose-trigger-master: %lld pulses, jitter mean %.1f us p99 %lld us max %lld us, "
                "%lld missed slots\n",

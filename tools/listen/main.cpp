@@ -1,25 +1,22 @@
 // hullpose-listen: prints or records the rig's skeletons (CSV or JSON lines) with latency
 // statistics. Raw traffic is recorded with lcm-logger and replayed with lcm-logplayer
 // (tests/rig/lcm_log_replay_test.sh shows the round trip into the fusion host).
-#include <fcntl.h>
-#include <poll.h>
-
 #include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <optional>
 
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/joints.hpp"
-#include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
 #include "hullpose/common/tool.hpp"
 #include "hullpose/listen/skeleton_log.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -71,11 +68,8 @@ struct Listener {
   hullpose::listen::SkeletonStats stats;
   hullpose_msg::skeleton_t msg;
   int64_t dropped = 0, interval = 0;
-  void on_skeleton(const lcm::ReceiveBuffer* rb, const std::string&) {
-    if (!hullpose::wire::skeleton_ok(rb->data, rb->data_size) ||
-        msg.decode(rb->data, 0, static_cast<int>(rb->data_size)) !=
-            static_cast<int>(rb->data_size) ||
-        msg.num_joints != hullpose::kNumJoints) {
+  void on_skeleton(std::span<const uint8_t> bytes) {
+    if (!hullpose::wire::decode(bytes, msg) || msg.num_joints != hullpose::kNumJoints) {
       ++dropped;
       return;
     }
@@ -93,9 +87,7 @@ int run(int argc, const char* const* argv) {
   const std::optional<Options> parsed = parse(argc, argv);
   if (!parsed) return 0;
   const Options& o = *parsed;
-  lcm::LCM bus(o.lcm_url);
-  HULLPOSE_THROW_UNLESS(
-      bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
+  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url);
   std::ofstream file, estimates;
   Listener l(o);
   l.out = &std::cout;
@@ -111,7 +103,9 @@ int run(int argc, const char* const* argv) {
     hullpose::listen::write_estimate_header(estimates);
     l.estimates = &estimates;
   }
-  bus.subscribe(o.channel, &Listener::on_skeleton, &l)->setQueueCapacity(1000);
+  const hullpose::bus::Subscription sub = bus->subscribe(
+      o.channel, [&l](std::span<const uint8_t> bytes, const std::string&) { l.on_skeleton(bytes); },
+      1000);
   if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -121,8 +115,7 @@ int run(int argc, const char* const* argv) {
   int64_t next_live = start + 1'000'000;
   while (!g_stop && hullpose::monotonic_us() < end &&
          (o.count == 0 || l.stats.received() < o.count)) {
-    pollfd p{bus.getFileno(), POLLIN, 0};
-    if (::poll(&p, 1, 100) > 0) bus.handle();
+    bus->handle(100);
     const int64_t now = hullpose::monotonic_us();
     if (o.live && now >= next_live) {
       const auto& pub = l.stats.stage(4);

@@ -17,8 +17,6 @@
 
 namespace hullpose::trigger {
 
-int64_t NodeClock::now_us() const { return monotonic_us() + offset(); }
-
 namespace {
 
 #if HULLPOSE_HAVE_LIBGPIOD

@@ -36,8 +36,7 @@ ReplaySummary run_replay(const ReplayOptions& options) {
       options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
 
   Counters counters;
-  fusion::FusionCore core(rig, options.fusion, &counters);
-  pose::PoseEstimator estimator(options.pose);
+  fusion::PosePipeline pipeline(rig, options.fusion, options.pose, &counters);
   EstimateWriter writer(options.out);
   const std::filesystem::path timings_path =
       options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv")
@@ -62,15 +61,12 @@ ReplaySummary run_replay(const ReplayOptions& options) {
       views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
       HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
     }
-    const fusion::FusionResult& hull = core.process(views);
-    const pose::PoseEstimate& pose = hull.valid
-                                         ? estimator.estimate(hull.skeleton_voxels, hull.grid)
-                                         : estimator.estimate({}, hull.grid);
+    const fusion::FrameOutcome& outcome = pipeline.process(views);
+    const fusion::FusionResult& hull = *outcome.hull;
+    const pose::PoseEstimate& pose = *outcome.pose;
     record.frame = f;
-    record.valid = pose.valid;
-    record.reason = pose.reason;
-    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews)
-      record.reason = 1;  // REASON_TOO_FEW_CAMERAS
+    record.valid = outcome.valid;
+    record.reason = outcome.reason;
     record.joints = pose.joints_mm;
     writer.write(record);
 
@@ -98,7 +94,7 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   summary.tree_ms = median(tree);
   summary.fit_ms = median(fit);
   summary.total_ms = median(total);
-  summary.stature_mm = estimator.last().stature_mm;
+  summary.stature_mm = pipeline.estimator().last().stature_mm;
   return summary;
 }
 

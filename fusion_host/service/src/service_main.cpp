@@ -81,11 +81,9 @@ int service_main(
   if (!parsed) return 0;
   const Options& o = *parsed;
   const Rig rig = load_rig(o.rig_file);
-  lcm::LCM bus(o.lcm_url);
-  HULLPOSE_THROW_UNLESS(
-      bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
+  const std::unique_ptr<bus::Bus> bus = bus::open_bus(o.lcm_url);
   auto pipeline = make_pipeline(rig, o.pipeline);
-  FusionService service(bus, rig, *pipeline, o.service);
+  FusionService service(*bus, system_clock(), rig, *pipeline, o.service);
   if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
