@@ -47,7 +47,7 @@ int64_t drops(const bus::Bus& b, const std::string& reason) {
 }  // namespace
 
 TEST_CASE("a rig's processes hear each other; forged, foreign and replayed messages are counted") {
-  auto lan = bus::open_bus("memq://");
+  auto lan = bus::open_lcm_bus("memq://");
   auto sender = wrap(*lan, key_from(1)), receiver = wrap(*lan, key_from(1)), other_rig = wrap(*lan, key_from(2));
   std::vector<std::string> got;
   auto sub = receiver->subscribe("TRIGGER", [&](std::span<const uint8_t> b, const std::string&) {
@@ -81,7 +81,7 @@ TEST_CASE("a rig's processes hear each other; forged, foreign and replayed messa
 }
 
 TEST_CASE("an open process (no key) reads signed and unsigned messages alike and signs nothing") {
-  auto lan = bus::open_bus("memq://");
+  auto lan = bus::open_lcm_bus("memq://");
   auto signed_sender = wrap(*lan, key_from(1)), open = wrap(*lan, std::nullopt);
   std::vector<std::string> got;
   auto sub = open->subscribe("S", [&](std::span<const uint8_t> b, const std::string&) {

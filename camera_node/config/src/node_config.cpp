@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <opencv2/core.hpp>
 
+#include "hullpose/auth/rig_key.hpp"
 #include "hullpose/common/check.hpp"
 
 namespace hullpose::camera_node {
@@ -153,8 +154,17 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
 
   const cv::FileNode lcm = r.map(root, "lcm", "", false);
   if (Reader::present(lcm)) {
-    r.only_keys(lcm, "lcm", {"url", "silhouette_channel", "status_channel", "queue_depth", "status_period_ms"});
+    r.only_keys(lcm, "lcm", {"url", "rig_key", "silhouette_channel", "status_channel", "queue_depth", "status_period_ms"});
     c.lcm.url = r.string(lcm, "url", "lcm", false, c.lcm.url);
+    const std::string key = r.string(lcm, "rig_key", "lcm", false, "");
+    if (!key.empty()) {
+      c.lcm.rig_key = resolve(c.base_dir, key);
+      try {
+        (void)auth::RigKey::load(c.lcm.rig_key.string());  // checked with the rest, before anything opens
+      } catch (const Error& e) {
+        HULLPOSE_THROW(r.where("lcm.rig_key") << ": " << e.what());
+      }
+    }
     c.lcm.silhouette_channel = r.string(lcm, "silhouette_channel", "lcm", false, c.lcm.silhouette_channel);
     c.lcm.status_channel = r.string(lcm, "status_channel", "lcm", false, c.lcm.status_channel);
     c.lcm.queue_depth = r.integer(lcm, "queue_depth", "lcm", false, c.lcm.queue_depth, 1, 1024);

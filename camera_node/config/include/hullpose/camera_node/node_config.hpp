@@ -20,6 +20,7 @@
 //     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
+//     rig_key: /etc/hullpose/rig.key  # the rig's key: messages authenticated (docs/messages.md)
 //     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
 //     status_period_ms: 1000
 //   trigger:                        # optional: without it the node is free-running (trigger_seq =
@@ -69,6 +70,7 @@ struct PostConfig {
 
 struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  std::filesystem::path rig_key;  // empty: an open rig (no authentication)
   std::string silhouette_channel = "SILHOUETTE";
   std::string status_channel = "STATUS";
   int queue_depth = 4;
