@@ -33,7 +33,7 @@ std::vector<uint8_t> encoded_skeleton() {
   m.rig_id = "rigA";
   m.num_joints = 25;
   m.joint_name.assign(25, "LeftUpLeg");
-  m.position.assign(25, {});
+  m.position.assign(25, {1.f, 2.f, 3.f});
   m.confidence.assign(25, 1.f);
   std::vector<uint8_t> b(static_cast<size_t>(m.getEncodedSize()));
   m.encode(b.data(), 0, static_cast<int>(b.size()));
