@@ -189,7 +189,7 @@ TEST_CASE("the camera node process fails cleanly on a malformed config or an abs
                                            "{type: file}\nbgs: {learn_frames: 3}\n";
   CHECK(run_to_exit(dir / "malformed.yaml", err) == 2);
   CHECK_THAT(err, Catch::Contains("hullpose-camera-node: error:") &&
-                      Catch::Contains("malformed.yaml: bgs.method: missing"));
+                      Catch::Contains("malformed.yaml:5: bgs.method: missing"));
 
   std::ofstream(dir / "garbage.yaml") << "camera_id: [1, 2\n\t: : :\n";
   CHECK(run_to_exit(dir / "garbage.yaml", err) == 2);

@@ -1,9 +1,11 @@
 #include "hullpose/replay/replay.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
@@ -162,12 +164,19 @@ int replay_cli(int argc, const char* const* argv) {
   const std::optional<ReplayOptions> options = parse_replay_args(argc, argv);
   if (!options) return 0;
   const ReplaySummary s = run_replay(*options);
-  std::printf(
-      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, "
-      "\"thin\": %.3f, "
-      "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",
-      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms,
-      s.total_ms);
+  using Json = nlohmann::ordered_json;
+  const auto round = [](double v, double unit) { return std::round(v / unit) * unit; };
+  const Json summary{{"frames", s.frames},
+                     {"valid", s.valid},
+                     {"stature_mm", round(s.stature_mm, 0.1)},
+                     {"median_ms",
+                      {{"carve", round(s.carve_ms, 1e-3)},
+                       {"thin", round(s.thin_ms, 1e-3)},
+                       {"fusion", round(s.fusion_ms, 1e-3)},
+                       {"tree", round(s.tree_ms, 1e-3)},
+                       {"fit", round(s.fit_ms, 1e-3)},
+                       {"total", round(s.total_ms, 1e-3)}}}};
+  std::cout << summary.dump() << '\n';
   return 0;
 }
 
