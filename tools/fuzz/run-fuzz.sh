@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make fuzz: runs every libFuzzer target built in BUILD (listed in BUILD/fuzz/targets.txt) with
-# its seed corpus, for SECONDS each (FUZZ_RUNS=N: N executions each instead); fails if any target
+# its seed corpus, for SECONDS each (FUZZ_RUNS=N: stop at N executions, or SECONDS if sooner); fails if any target
 # finds a crash. Prints one JSON line per target (executions, seconds, rate) and keeps them in
 # BUILD/fuzz/results.jsonl. FUZZ_JOBS=N runs N targets at a time.
 set -euo pipefail
@@ -17,8 +17,9 @@ one() {
   log="$out/$name.log"
   mkdir -p "$corpus"
   "$exe"_seeds "$corpus"
-  if [[ -n $runs ]]; then limit=(-runs="$runs"); else limit=(-max_total_time="$seconds"); fi
-  echo "fuzz: $name (${runs:+$runs runs}${runs:-${seconds}s})" >&2
+  limit=(-max_total_time="$seconds")
+  [[ -n $runs ]] && limit+=(-runs="$runs")
+  echo "fuzz: $name (${seconds}s${runs:+ or $runs runs})" >&2
   "$exe" "${limit[@]}" -seed=1 -print_final_stats=1 -artifact_prefix="$out/$name-" "$corpus" > "$log" 2>&1 || rc=$?
   local done_runs done_s
   done_runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
