@@ -69,6 +69,8 @@ std::unique_ptr<Bus> open_bus(const std::string& url, const std::string& rig_key
   return std::make_unique<auth::AuthenticatedBus>(open_lcm_bus(url), std::move(key));
 }
 
-std::unique_ptr<Bus> open_lcm_bus(const std::string& url) { return std::make_unique<LcmBus>(url); }
+std::unique_ptr<Bus> open_lcm_bus(const std::string& url) {
+  return std::make_unique<LcmBus>(url);
+}
 
 }  // namespace hullpose::bus

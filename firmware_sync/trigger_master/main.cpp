@@ -29,7 +29,8 @@ void on_signal(int) {
 
 const char* kUsage =
     "usage: hullpose-trigger-master --rig-id ID [--rate HZ=30] [--pulse-us US=1000]\n"
-    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--rig-key FILE] [--count N] "
+    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--rig-key FILE] [--count "
+    "N] "
     "[--control-stdin]\n"
     "         [--wait-nodes N]   (wire: start pulsing once N camera nodes are connected, at most "
     "60 s)\n"

@@ -23,8 +23,12 @@ auth::RigKey key_from(uint8_t seed) {
 class Shared final : public bus::Bus {
  public:
   explicit Shared(bus::Bus& b) : b_(b) {}
-  bool publish(const std::string& c, std::span<const uint8_t> bytes) override { return b_.publish(c, bytes); }
-  bus::Subscription subscribe(const std::string& c, bus::Handler h, int q) override { return b_.subscribe(c, std::move(h), q); }
+  bool publish(const std::string& c, std::span<const uint8_t> bytes) override {
+    return b_.publish(c, bytes);
+  }
+  bus::Subscription subscribe(const std::string& c, bus::Handler h, int q) override {
+    return b_.subscribe(c, std::move(h), q);
+  }
   bool handle(int t) override { return b_.handle(t); }
   int fd() const override { return b_.fd(); }
   const std::string& url() const override { return b_.url(); }
@@ -48,19 +52,23 @@ int64_t drops(const bus::Bus& b, const std::string& reason) {
 
 TEST_CASE("a rig's processes hear each other; forged, foreign and replayed messages are counted") {
   auto lan = bus::open_lcm_bus("memq://");
-  auto sender = wrap(*lan, key_from(1)), receiver = wrap(*lan, key_from(1)), other_rig = wrap(*lan, key_from(2));
+  auto sender = wrap(*lan, key_from(1)), receiver = wrap(*lan, key_from(1)),
+       other_rig = wrap(*lan, key_from(2));
   std::vector<std::string> got;
   auto sub = receiver->subscribe("TRIGGER", [&](std::span<const uint8_t> b, const std::string&) {
     got.emplace_back(reinterpret_cast<const char*>(b.data()), b.size());
   });
   // The raw traffic too, to replay it as an attacker would.
   std::vector<std::vector<uint8_t>> raw;
-  auto tap = lan->subscribe("TRIGGER", [&](std::span<const uint8_t> b, const std::string&) { raw.emplace_back(b.begin(), b.end()); });
+  auto tap = lan->subscribe("TRIGGER", [&](std::span<const uint8_t> b, const std::string&) {
+    raw.emplace_back(b.begin(), b.end());
+  });
   const std::string a = "first message", b = "second";
   REQUIRE(sender->publish("TRIGGER", {reinterpret_cast<const uint8_t*>(a.data()), a.size()}));
   REQUIRE(sender->publish("TRIGGER", {reinterpret_cast<const uint8_t*>(b.data()), b.size()}));
   REQUIRE(other_rig->publish("TRIGGER", {reinterpret_cast<const uint8_t*>(a.data()), a.size()}));
-  REQUIRE(lan->publish("TRIGGER", {reinterpret_cast<const uint8_t*>(a.data()), a.size()}));  // unauthenticated
+  REQUIRE(lan->publish("TRIGGER",
+                       {reinterpret_cast<const uint8_t*>(a.data()), a.size()}));  // unauthenticated
   while (lan->handle(0)) {
   }
   REQUIRE(raw.size() == 4);
@@ -88,7 +96,8 @@ TEST_CASE("an open process (no key) reads signed and unsigned messages alike and
     got.emplace_back(reinterpret_cast<const char*>(b.data()), b.size());
   });
   size_t raw_size = 0;
-  auto tap = lan->subscribe("S", [&](std::span<const uint8_t> b, const std::string&) { raw_size = b.size(); });
+  auto tap = lan->subscribe(
+      "S", [&](std::span<const uint8_t> b, const std::string&) { raw_size = b.size(); });
   const std::string m = "hello";
   signed_sender->publish("S", {reinterpret_cast<const uint8_t*>(m.data()), m.size()});
   while (lan->handle(0)) {

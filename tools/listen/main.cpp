@@ -25,15 +25,16 @@ void on_signal(int) {
 }
 
 const char* kUsage =
-    "usage: hullpose-listen [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--format csv|jsonl|none] "
+    "usage: hullpose-listen [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--format "
+    "csv|jsonl|none] "
     "[--output FILE]\n"
     "         [--estimates FILE --frame-offset K] [--summary FILE] [--count N] [--duration-s S] "
     "[--live]\n"
     "         [--ready-file FILE]\n";
 
 struct Options {
-  std::string lcm_url, rig_key, channel = "SKELETON", format = "csv", output = "-", estimates, summary,
-                       ready_file;
+  std::string lcm_url, rig_key, channel = "SKELETON", format = "csv", output = "-", estimates,
+                                summary, ready_file;
   long long count = 0, frame_offset = 0;
   double duration_s = 0;
   bool live = false;

@@ -20,7 +20,7 @@ void on_signal(int) {
 struct Options {
   std::string rig_file;
   std::string lcm_url;
-  std::string rig_key;  // the rig's key file: messages authenticated (docs/messages.md)
+  std::string rig_key;     // the rig's key file: messages authenticated (docs/messages.md)
   std::string ready_file;  // written once subscribed (for scripts that start publishers next)
   double duration_s = 0;   // 0: until a signal
   ServiceConfig service;
@@ -28,7 +28,8 @@ struct Options {
 };
 
 constexpr const char* kUsage =
-    " --rig FILE [--lcm-url URL] [--rig-key FILE] [--min-cameras N] [--deadline-ms MS] [--deadline-from "
+    " --rig FILE [--lcm-url URL] [--rig-key FILE] [--min-cameras N] [--deadline-ms MS] "
+    "[--deadline-from "
     "first|trigger]\n"
     "    [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] "
     "[--resolution N]\n"

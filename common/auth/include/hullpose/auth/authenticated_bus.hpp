@@ -16,8 +16,8 @@ namespace hullpose::auth {
 class AuthenticatedBus final : public bus::Bus {
  public:
   // now_utime: the clock of sent_utime and of the time check (tests inject one).
-  AuthenticatedBus(std::unique_ptr<bus::Bus> inner, std::optional<RigKey> key, VerifierConfig config = {},
-                   std::function<int64_t()> now_utime = {});
+  AuthenticatedBus(std::unique_ptr<bus::Bus> inner, std::optional<RigKey> key,
+                   VerifierConfig config = {}, std::function<int64_t()> now_utime = {});
 
   bool publish(const std::string& channel, std::span<const uint8_t> bytes) override;
   [[nodiscard]] bus::Subscription subscribe(const std::string& channel, bus::Handler handler,
