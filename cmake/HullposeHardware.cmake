@@ -19,5 +19,14 @@ endfunction()
 
 hullpose_optional_pkg(LIBCAMERA "${HULLPOSE_LIBCAMERA}" libcamera)
 hullpose_optional_pkg(LIBGPIOD "${HULLPOSE_GPIOD}" libgpiodcxx)
+# hullpose_use_gpiod(<target>): links libgpiod and defines HULLPOSE_HAVE_LIBGPIOD where the build
+# has it (the target's gpiod: backend is compiled out otherwise).
+function(hullpose_use_gpiod target)
+  if(HULLPOSE_HAVE_LIBGPIOD)
+    target_link_libraries(${target} PRIVATE PkgConfig::LIBGPIOD)
+    target_compile_definitions(${target} PRIVATE HULLPOSE_HAVE_LIBGPIOD=1)
+  endif()
+endfunction()
+
 message(STATUS "hullpose: libcamera source ${HULLPOSE_HAVE_LIBCAMERA}, libgpiod trigger ${HULLPOSE_HAVE_LIBGPIOD}, "
                "synthetic source ${HULLPOSE_SYNTHETIC_SOURCE}")

@@ -136,6 +136,40 @@ TEST_CASE("fusion service: every sequence is published, fused or with its reason
   CHECK(counters["malformed_lcm"] == 1);
 }
 
+TEST_CASE("fusion service: a pipeline that throws fails that frame only; the service goes on") {
+  const Rig rig = testing::make_rig(2, 60, 40);
+  const auto bus = bus::open_bus("memq://");
+  SimClock clock;
+  struct Throwing final : fusion::FramePipeline {
+    void process(const fusion::AssembledFrame& f, fusion::PoseEstimate& out) override {
+      if (f.trigger_seq == 1)
+        throw std::runtime_error("CUDA backend: cudaMemcpy: an illegal memory access");
+      out.valid = true;
+    }
+  } pipeline;
+  fusion::ServiceConfig cfg;
+  cfg.assembler.min_cameras = 2;
+  fusion::FusionService service(*bus, clock, rig, pipeline, cfg);
+  Sink sink;
+  const auto skeletons = bus->subscribe(
+      "SKELETON", [&](std::span<const uint8_t> b, const std::string&) { sink.on_skeleton(b); },
+      100);
+  const int64_t t0 = clock.realtime_utime();
+  for (int64_t seq = 0; seq < 3; ++seq)
+    for (int cam = 0; cam < 2; ++cam)
+      wire::publish(*bus, "SILHOUETTE", testing::make_silhouette(rig, cam, seq, t0 + seq * 33'333));
+  for (int i = 0; i < 20; ++i) service.step(0);
+  service.flush();
+  while (bus->handle(0)) {
+  }
+  REQUIRE(sink.skeletons.size() == 3);
+  CHECK(sink.skeletons.at(0).valid);
+  CHECK_FALSE(sink.skeletons.at(1).valid);
+  CHECK(sink.skeletons.at(1).reason == hullpose_msg::skeleton_t::REASON_FIT_FAILED);
+  CHECK(sink.skeletons.at(2).valid);
+  CHECK(service.counters().get("pipeline_error") == 1);
+}
+
 TEST_CASE("views laid out by camera index for carving") {
   const Rig rig = testing::make_rig(4, 40, 30);
   std::vector<cv::Mat> masks;

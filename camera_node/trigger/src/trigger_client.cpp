@@ -13,22 +13,15 @@ namespace hullpose::trigger {
 TriggerClient::TriggerClient(bus::Bus& bus, EdgeSource& edges, const ListenerConfig& config,
                              const NodeClock& clock, const std::string& channel)
     : bus_(bus), edges_(edges), clock_(clock), listener_(config, edges) {
-  subscription_ = bus_.subscribe(
-      channel, [this](std::span<const uint8_t> bytes, const std::string&) { on_trigger(bytes); });
+  subscription_ = wire::subscribe(
+      bus_, channel, msg_, counters_, "malformed_trigger",
+      [this](const hullpose_msg::trigger_t& t) { listener_.on_announcement(t, clock_.now_us()); });
   tagged_.reserve(MapperConfig::kEdges);
   for (const char* name : {"malformed_trigger", "tag_after_timeout", "untagged_frame", "overrun"})
     counters_.add(name, 0);
 }
 
 TriggerClient::~TriggerClient() = default;
-
-void TriggerClient::on_trigger(std::span<const uint8_t> bytes) {
-  if (!wire::decode(bytes, msg_)) {
-    counters_.add("malformed_trigger");
-    return;
-  }
-  listener_.on_announcement(msg_, clock_.now_us());
-}
 
 template <class Done>
 bool TriggerClient::pump(int wait_ms, Done&& done) {

@@ -165,17 +165,18 @@ int replay_cli(int argc, const char* const* argv) {
   if (!options) return 0;
   const ReplaySummary s = run_replay(*options);
   using Json = nlohmann::ordered_json;
-  const auto round = [](double v, double unit) { return std::round(v / unit) * unit; };
+  // Divided by a power of ten, so that the printed number is the short one.
+  const auto round = [](double v, double per_unit) { return std::round(v * per_unit) / per_unit; };
   const Json summary{{"frames", s.frames},
                      {"valid", s.valid},
-                     {"stature_mm", round(s.stature_mm, 0.1)},
+                     {"stature_mm", round(s.stature_mm, 10)},
                      {"median_ms",
-                      {{"carve", round(s.carve_ms, 1e-3)},
-                       {"thin", round(s.thin_ms, 1e-3)},
-                       {"fusion", round(s.fusion_ms, 1e-3)},
-                       {"tree", round(s.tree_ms, 1e-3)},
-                       {"fit", round(s.fit_ms, 1e-3)},
-                       {"total", round(s.total_ms, 1e-3)}}}};
+                      {{"carve", round(s.carve_ms, 1000)},
+                       {"thin", round(s.thin_ms, 1000)},
+                       {"fusion", round(s.fusion_ms, 1000)},
+                       {"tree", round(s.tree_ms, 1000)},
+                       {"fit", round(s.fit_ms, 1000)},
+                       {"total", round(s.total_ms, 1000)}}}};
   std::cout << summary.dump() << '\n';
   return 0;
 }

@@ -43,22 +43,15 @@ FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FrameP
         assembler_.on_bytes(bytes, clock_.realtime_utime(), clock_.monotonic_us());
       },
       kQueue));
-  subscriptions_.push_back(bus_.subscribe(
-      config_.trigger_channel,
-      [this](std::span<const uint8_t> bytes, const std::string&) { on_trigger(bytes); }, kQueue));
+  subscriptions_.push_back(wire::subscribe(
+      bus_, config_.trigger_channel, trigger_, counters_, "malformed_trigger",
+      [this](const hullpose_msg::trigger_t& t) { assembler_.on_trigger(t, clock_.monotonic_us()); },
+      kQueue));
   interval_start_us_ = clock_.monotonic_us();
   next_status_us_ = interval_start_us_;
 }
 
 FusionService::~FusionService() = default;
-
-void FusionService::on_trigger(std::span<const uint8_t> bytes) {
-  if (!wire::decode(bytes, trigger_)) {
-    counters_.add("malformed_trigger");
-    return;
-  }
-  assembler_.on_trigger(trigger_, clock_.monotonic_us());
-}
 
 void FusionService::on_frame(const AssembledFrame& f) {
   if (last_seq_ >= 0 && f.trigger_seq > last_seq_ + 1) {
@@ -84,7 +77,17 @@ void FusionService::on_frame(const AssembledFrame& f) {
     estimate_.reason = hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
     counters_.add("skeleton_too_few_cameras");
   } else {
-    pipeline_.process(f, estimate_);
+    try {
+      pipeline_.process(f, estimate_);
+    } catch (const std::exception& e) {
+      // A pipeline must not throw (FramePipeline); if one does (a bug, the system), this frame
+      // is published as failed and the service goes on with the next.
+      HULLPOSE_LOG(Service, Error)
+          << "frame " << f.trigger_seq << ": pipeline failed: " << e.what();
+      counters_.add("pipeline_error");
+      estimate_ = PoseEstimate{};
+      estimate_.reason = hullpose_msg::skeleton_t::REASON_FIT_FAILED;
+    }
     interval_pipeline_us_ += t.elapsed_us();
     ++interval_frames_;
     counters_.add(estimate_.valid ? "skeleton_valid" : "skeleton_invalid");

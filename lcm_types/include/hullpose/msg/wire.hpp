@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "hullpose/common/bus.hpp"
+#include "hullpose/common/counters.hpp"
 
 namespace hullpose::wire {
 
@@ -44,6 +45,25 @@ bool decode(std::span<const uint8_t> bytes, Msg& out) {
   if (!well_formed(bytes, static_cast<const Msg*>(nullptr))) return false;
   const int n = static_cast<int>(bytes.size());
   return out.decode(bytes.data(), 0, n) == n;
+}
+
+// `handler(const Msg&)` for every message on `channel` that decodes (into `msg`, reused: no
+// allocation per message); one that does not is counted in `counters` under `malformed` and
+// dropped. `msg` and `counters` outlive the subscription.
+template <class Msg, class Handler>
+bus::Subscription subscribe(bus::Bus& bus, const std::string& channel, Msg& msg, Counters& counters,
+                            const char* malformed, Handler handler, int queue_capacity = 30) {
+  return bus.subscribe(
+      channel,
+      [&msg, &counters, malformed, handler = std::move(handler)](std::span<const uint8_t> bytes,
+                                                                 const std::string&) {
+        if (!decode(bytes, msg)) {
+          counters.add(malformed);
+          return;
+        }
+        handler(static_cast<const Msg&>(msg));
+      },
+      queue_capacity);
 }
 
 // Encodes `msg` into `scratch` (grown when too small, then reused) and publishes it.

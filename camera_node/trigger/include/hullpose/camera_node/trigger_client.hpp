@@ -48,7 +48,6 @@ class TriggerClient {
   const Counters& counters() const { return counters_; }
 
  private:
-  void on_trigger(std::span<const uint8_t> bytes);
   int64_t to_node_clock(int64_t frame_utime) const;
   // Handles what is pending on the bus and the trigger input, then waits for either, until
   // `done` (which sees the newly tagged frames) says so or wait_ms passes.

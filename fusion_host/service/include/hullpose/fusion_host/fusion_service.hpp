@@ -51,7 +51,6 @@ class FusionService {
   int64_t skeletons_published() const { return published_; }
 
  private:
-  void on_trigger(std::span<const uint8_t> bytes);
   void on_frame(const AssembledFrame& frame);
   void publish_status(int64_t now_us);
 
