@@ -6,10 +6,11 @@ BUILD_FUZZ  ?= build-fuzz
 JOBS        ?= $(shell nproc)
 CMAKE_FLAGS ?=
 FUZZ_SECONDS ?= 60
+SOAK_MINUTES ?= 10
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz format format-check clean
+.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz soak format format-check clean
 
 all: build
 
@@ -43,10 +44,16 @@ demo: build
 bench: build
 	@tools/bench/run-bench.sh $(BUILD)
 
+# FUZZ_RUNS=N stops each target at N executions (or FUZZ_SECONDS, if sooner); FUZZ_JOBS=N in parallel.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE) -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_FUZZ=ON $(CMAKE_FLAGS)
 	$(CMAKE) --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_targets
 	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)
+
+# The rig for SOAK_MINUTES in network namespaces (root): 8 nodes + master + host + listener at
+# 30 Hz with 1 % loss; JSON summary in $(BUILD)/soak.json (tests/system/soak.sh).
+soak: build
+	tests/system/soak.sh $(BUILD) $(SOAK_MINUTES) $(BUILD)/soak.json
 
 # The repo's .clang-format over every tracked C++ file: `format` rewrites, `format-check` (CI)
 # fails on the first file that differs.

@@ -9,6 +9,7 @@
 #   deploy/netns-rig.sh loss PREFIX NAMESPACE PORT [N]   drop 1 in N (default 10) UDP datagrams to
 #                                                      PORT in and out of PREFIX-NAMESPACE (nftables;
 #                                                      this kernel has no netem qdisc)
+#   deploy/netns-rig.sh dropped PREFIX NAMESPACE       datagrams 'loss' dropped there so far: IN OUT
 #
 # Run a process inside with: ip netns exec PREFIX-cam3 <command>. LCM needs ttl=1 to cross the
 # bridge: udpm://239.255.76.67:PORT?ttl=1. Needs root (CAP_NET_ADMIN) and iproute2, nftables.
@@ -16,7 +17,7 @@
 set -euo pipefail
 
 die() { echo "netns-rig: $*" >&2; exit 1; }
-[[ $# -ge 2 ]] || die "usage: $0 create PREFIX NUM_CAMERAS | destroy PREFIX | loss PREFIX NAMESPACE PORT [N]"
+[[ $# -ge 2 ]] || die "usage: $0 create PREFIX NUM_CAMERAS | destroy PREFIX | loss PREFIX NAMESPACE PORT [N] | dropped PREFIX NAMESPACE"
 cmd=$1 prefix=$2
 [[ $prefix =~ ^[a-z][a-z0-9]{0,7}$ ]] || die "PREFIX must be 1-8 lowercase letters/digits starting with a letter, got '$prefix'"
 sw="$prefix-sw"
@@ -57,15 +58,23 @@ loss() {
   [[ $port =~ ^[0-9]+$ && $every =~ ^[0-9]+$ && $every -ge 2 ]] || die "loss: PORT and N must be numbers (N >= 2)"
   ip netns exec "$ns" nft -f - <<NFT
 table inet hullpose_loss {
-  chain input { type filter hook input priority 0; udp dport $port numgen random mod $every 0 drop; }
-  chain output { type filter hook output priority 0; udp dport $port numgen random mod $every 0 drop; }
+  chain input { type filter hook input priority 0; udp dport $port numgen random mod $every 0 counter drop; }
+  chain output { type filter hook output priority 0; udp dport $port numgen random mod $every 0 counter drop; }
 }
 NFT
+}
+
+dropped() {
+  ip netns exec "$prefix-$1" nft list table inet hullpose_loss 2>/dev/null |
+    awk '/chain input/ { c = "in" } /chain output/ { c = "out" }
+         /counter packets/ { for (i = 1; i < NF; ++i) if ($i == "packets") n[c] += $(i + 1) }
+         END { print n["in"] + 0, n["out"] + 0 }'
 }
 
 case $cmd in
   create) [[ $# -eq 3 ]] || die "usage: $0 create PREFIX NUM_CAMERAS"; create "$3" ;;
   destroy) destroy ;;
   loss) [[ $# -ge 4 ]] || die "usage: $0 loss PREFIX NAMESPACE PORT [N]"; loss "$3" "$4" "${5:-10}" ;;
+  dropped) [[ $# -eq 3 ]] || die "usage: $0 dropped PREFIX NAMESPACE"; dropped "$3" ;;
   *) die "unknown command '$cmd'" ;;
 esac

@@ -3,7 +3,9 @@
 #include <lcm/lcm-cpp.hpp>
 #include <list>
 #include <mutex>
+#include <optional>
 
+#include "hullpose/auth/authenticated_bus.hpp"
 #include "hullpose/common/check.hpp"
 
 namespace hullpose::bus {
@@ -60,7 +62,14 @@ class LcmBus final : public Bus {
 
 }  // namespace
 
-std::unique_ptr<Bus> open_bus(const std::string& url) {
+std::unique_ptr<Bus> open_bus(const std::string& url, const std::string& rig_key_file) {
+  // The key first: a bad key file is the user's error to hear about before any socket opens.
+  std::optional<auth::RigKey> key;
+  if (!rig_key_file.empty()) key = auth::RigKey::load(rig_key_file);
+  return std::make_unique<auth::AuthenticatedBus>(open_lcm_bus(url), std::move(key));
+}
+
+std::unique_ptr<Bus> open_lcm_bus(const std::string& url) {
   return std::make_unique<LcmBus>(url);
 }
 

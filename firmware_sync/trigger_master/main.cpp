@@ -29,7 +29,8 @@ void on_signal(int) {
 
 const char* kUsage =
     "usage: hullpose-trigger-master --rig-id ID [--rate HZ=30] [--pulse-us US=1000]\n"
-    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--count N] "
+    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--rig-key FILE] [--count "
+    "N] "
     "[--control-stdin]\n"
     "         [--wait-nodes N]   (wire: start pulsing once N camera nodes are connected, at most "
     "60 s)\n"
@@ -39,6 +40,7 @@ struct Options {
   hullpose::sync::TriggerMasterConfig master;
   std::string line = "gpiod:gpiochip0:17";
   std::string lcm_url;
+  std::string rig_key;  // the rig's key file: TRIGGER and STATUS signed (docs/messages.md)
   long long count = 0;  // 0: forever
   bool control_stdin = false;
   long long wait_nodes = 0;
@@ -53,6 +55,7 @@ std::optional<Options> parse(int argc, const char* const* argv) {
       .option("--pulse-us", o.master.pulse_width_us)
       .option("--line", o.line)
       .option("--lcm-url", o.lcm_url)
+      .option("--rig-key", o.rig_key)
       .option("--count", o.count)
       .flag("--control-stdin", o.control_stdin)
       .option("--wait-nodes", o.wait_nodes);
@@ -145,7 +148,7 @@ int run(int argc, const char* const* argv) {
   const std::optional<Options> parsed = parse(argc, argv);
   if (!parsed) return 0;
   const Options& o = *parsed;
-  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url);
+  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url, o.rig_key);
   auto line = hullpose::sync::open_trigger_line(o.line);
   if (o.wait_nodes > 0) {
     const size_t got = line->wait_for_nodes(static_cast<size_t>(o.wait_nodes), 60'000);

@@ -135,7 +135,7 @@ void ViewRenderer::raster(const std::vector<Primitive>& primitives, cv::Mat& mas
     material->setTo(255);
     facing->create(H, W, CV_32FC1);
     depth_.create(H, W, CV_32FC1);
-    depth_.setTo(std::numeric_limits<float>::infinity());
+    depth_.setTo(cv::Scalar::all(std::numeric_limits<double>::infinity()));
   }
   Prepared q;
   for (const Primitive& p : primitives) {

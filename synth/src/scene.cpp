@@ -171,7 +171,7 @@ Scene::Backdrop Scene::backdrop(const ViewRenderer& view) const {
     auto* map = b.shadow_map.ptr<cv::Vec2f>(v);
     for (int u = 0; u < cam.width; ++u) {
       const cv::Vec3f r = view.ray(u, v);
-      const Eigen::Vector3d d = Rt * Eigen::Vector3d(r[0], r[1], r[2]);
+      const Eigen::Vector3d d = Rt * Eigen::Vector3f(r[0], r[1], r[2]).cast<double>();
       // Nearest of floor, ceiling and the four walls.
       double best = std::numeric_limits<double>::infinity();
       int plane = -1;
@@ -279,7 +279,7 @@ void CameraRenderer::render_dark(int frame, cv::Mat& bgr) {
   std::mt19937_64 rng(draw_seed(scene_.seed(), c.id, frame, 103));
   std::uniform_int_distribution<int> offset(0, kNoiseMargin);
   // Saturates: black plus the positive half of the noise.
-  noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height)).convertTo(bgr, CV_8UC3, kNoiseScale);
+  noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height)).convertTo(bgr, CV_8UC3, static_cast<double>(kNoiseScale));
 }
 
 void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {

@@ -2,7 +2,8 @@
 // In place of carve -> thin -> tree -> fit in the service and fault tests: it checks that
 // every view of the frame carries the frame's own sequence (seq_pattern.hpp) and reports it in
 // the pose (valid + joint 0 = (seq, views, 0) when consistent; REASON_FIT_FAILED and joint 0 x
-// = -1 when views of different sequences were mixed).
+// = -1 when views of different sequences were mixed). Recordings that loop (soak) show
+// sequence k mod `period` (at most 2^kPatternBits).
 #include <hullpose_msg/skeleton_t.hpp>
 
 #include "hullpose/fusion_host/frame_pipeline.hpp"
@@ -12,11 +13,11 @@ namespace hullpose::testing {
 
 class SeqCheckPipeline final : public fusion::FramePipeline {
  public:
+  explicit SeqCheckPipeline(int64_t period = int64_t{1} << kPatternBits) : period_(period) {}
   void process(const fusion::AssembledFrame& frame, fusion::PoseEstimate& out) override {
     bool consistent = true;
     for (const fusion::View& v : frame.views)
-      consistent = consistent && read_seq_mask(*v.mask) ==
-                                     (frame.trigger_seq & ((int64_t{1} << kPatternBits) - 1));
+      consistent = consistent && read_seq_mask(*v.mask) == frame.trigger_seq % period_;
     out.fused_after_us = 0;
     out.valid = consistent;
     out.reason = consistent ? hullpose_msg::skeleton_t::REASON_OK
@@ -29,6 +30,9 @@ class SeqCheckPipeline final : public fusion::FramePipeline {
     ++frames;
   }
   int frames = 0;
+
+ private:
+  int64_t period_;
 };
 
 }  // namespace hullpose::testing

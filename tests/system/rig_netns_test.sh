@@ -14,51 +14,16 @@
 # trigger wire, passed through unchanged (threshold method); the host runs the sequence-checking
 # pipeline (tests/rig/seq_check_pipeline.hpp), which proves that no fused frame mixes views of
 # different triggers. rig_netns_accuracy_test.sh runs the real fusion host on rendered data.
-set -euo pipefail
-build=$(cd "$1" && pwd)
+source "$(dirname "$0")/rig_lib.sh"
+rig_init "$1" netns hp
 frames=${2:-300} rate=${3:-30} num=${4:-8}
-root=$(cd "$(dirname "$0")/../.." && pwd)
-netns="$root/deploy/netns-rig.sh"
-
-if [[ $(id -u) -ne 0 ]] || ! ip netns add "hpchk$$" 2>/dev/null; then
-  echo "SKIP: network namespaces need root"; exit 77
-fi
-ip netns del "hpchk$$"
-
-prefix="hp$(( $$ % 100000 ))"
-port=$(( 7700 + $$ % 200 ))
-url="udpm://239.255.76.67:$port?ttl=1"
-work=$(mktemp -d /tmp/hullpose-netns.XXXXXX)
-wire="$work/wire.sock"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  "$netns" destroy "$prefix" || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
+csv=$work/skeletons.csv
 
 "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" "$num" 160 120 rigA "$frames"
 "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/rig.yaml" "$url" "$wire" masks:seq
 echo "  clock_offset_ms: 2000" >> "$work/node5.yaml"  # camera 5's board clock is 2 s off
 "$netns" create "$prefix" "$num" >/dev/null
 "$netns" loss "$prefix" cam3 "$port" 10
-# spawn LOG NAMESPACE COMMAND...: starts COMMAND in the namespace; its pid is in $spawned.
-spawn() {
-  local log=$1 ns=$2; shift 2
-  ip netns exec "$prefix-$ns" "$@" 2>> "$log" &
-  spawned=$!; pids+=("$spawned")
-}
-rows() { [[ -f $work/skeletons.csv ]] && echo $(( $(wc -l < "$work/skeletons.csv") - 1 )) || echo 0; }
-wait_until() {  # wait_until SECONDS COMMAND... : polls a condition, fails the test on timeout
-  local deadline=$(( SECONDS + $1 )); shift
-  until "$@"; do
-    (( SECONDS < deadline )) || { echo "FAIL: timed out waiting for: $*"; tail -n 5 "$work"/*.log; exit 1; }
-    sleep 0.05
-  done
-}
-have_rows() { (( $(rows) >= $1 )); }
 
 seconds=$(( frames / rate + 15 ))
 spawn "$work/host.log" fusion "$build/tests/rig/rig_stub_fusion_host" --rig "$work/rig.yaml" --lcm-url "$url" \
@@ -81,15 +46,15 @@ for ((c = 0; c < num; c++)); do start_cam "$c"; done
 spawn "$work/hostile.log" cam6 "$build/tests/rig/rig_hostile_sender" --lcm-url "$url" --camera-id 6 --duration-s "$seconds"
 
 # Kill camera 1 a third of the way in, restart it at half way.
-wait_until "$seconds" have_rows $(( frames / 3 ))
+wait_until "$seconds" have_rows "$csv" $(( frames / 3 ))
 kill -KILL "${cam_pid[1]}"; wait "${cam_pid[1]}" || true  # a crash: no goodbye
-killed_at=$(rows)
-wait_until "$seconds" have_rows $(( frames / 2 ))
-restarted_at=$(rows)
+killed_at=$(rows "$csv")
+wait_until "$seconds" have_rows "$csv" $(( frames / 2 ))
+restarted_at=$(rows "$csv")
 start_cam 1
 
 wait "$master" || { echo "FAIL: trigger master failed"; cat "$work/master.log"; exit 1; }
-wait_until 20 have_rows "$frames"
+wait_until 20 have_rows "$csv" "$frames"
 wait "$listener" || true
 kill "$host"; wait "$host" || true
 for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done

@@ -13,6 +13,7 @@
 #                       the clean-up (opening, small blobs, pinholes; no closing). The frames are decoded into memory at start
 #                       (1.4 MB each): decoding a noisy 800x600 PNG costs more than the background
 #                       subtraction (~12 ms), and a real sensor has no such cost.
+# RIG_KEY (environment): the rig's key file (lcm.rig_key; messages authenticated).
 # RIGDIR is the folder of RIG. SOURCE_EXTRA (environment) is added to the source: mapping, e.g.
 # "preload: true, loop: true" (frames decoded at start; trigger k shows frame k modulo the length). The trigger: section comes last and in block style, so a caller may
 # append fields to it (e.g. echo "  clock_offset_ms: 2000" >> OUT/node5.yaml).
@@ -21,6 +22,7 @@ set -euo pipefail
 out=$1 num=$2 rig=$3 url=$4 wire=$5 source=$6
 dir=$(dirname "$rig")
 mkdir -p "$out"
+key_field=""; [[ -n ${RIG_KEY:-} ]] && key_field=" rig_key: \"$RIG_KEY\","
 for ((c = 0; c < num; c++)); do
   case $source in
     masks:*)
@@ -38,7 +40,7 @@ post: { open_radius: 1, close_radius: 0, min_blob_area: 64, max_hole_area: 64 }"
 camera_id: $c
 rig_file: "$rig"
 $stage
-lcm: { url: "$url", queue_depth: 8, status_period_ms: 1000 }
+lcm: { url: "$url",$key_field queue_depth: 8, status_period_ms: 1000 }
 trigger:
   edges: wire
   path: "$wire"

@@ -7,7 +7,8 @@
 #   NODE_CMD, HOST_CMD: command templates; {cam} {rig} {wire} {url} {work} are substituted.
 # The master starts pulsing once all NUM nodes are connected to its wire (nodes may take a while
 # to load), so no trigger is lost to start-up. Leaves in WORK: skeletons.csv, estimates.csv (frame = trigger_seq), summary.json, *.log.
-# With LIVE=1 the listener prints fps and latency every second.
+# With LIVE=1 the listener prints fps and latency every second. If WORK/rig.key exists (the
+# node configs name it too: node-configs.sh with RIG_KEY), every process authenticates with it.
 set -euo pipefail
 build=$(cd "$1" && pwd) work=$2 frames=$3 rate=$4 num=$5 node_cmd=$6 host_cmd=$7
 port=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
@@ -29,15 +30,16 @@ for f in "$work"/node*.yaml; do  # node config files may carry the templates too
 done
 duration=$(( frames / rate + 90 ))  # nodes may take a while to load before the master starts
 live=(); [[ ${LIVE:-0} == 1 ]] && live=(--live)
+key=(); [[ -f $work/rig.key ]] && key=(--rig-key "$work/rig.key")
 
 "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format csv --output "$work/skeletons.csv" --estimates "$work/estimates.csv" \
-  --summary "$work/summary.json" --count "$frames" --duration-s "$duration" --ready-file "$work/listen.ready" "${live[@]}" \
+  --summary "$work/summary.json" --count "$frames" --duration-s "$duration" --ready-file "$work/listen.ready" "${live[@]}" "${key[@]}" \
   2> >(if [[ ${LIVE:-0} == 1 ]]; then tee "$work/listen.log" >&2; else cat > "$work/listen.log"; fi) & listener=$!; pids+=($listener)
 # shellcheck disable=SC2046
-$(fill "$host_cmd" -) --lcm-url "$url" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
+$(fill "$host_cmd" -) --lcm-url "$url" "${key[@]}" --duration-s "$duration" --ready-file "$work/host.ready" 2> "$work/host.log" & host=$!; pids+=($host)
 wait_for 20 "$work/listen.ready"; wait_for 20 "$work/host.ready"
 "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$rig" | tr -d '"')" \
-  --rate "$rate" --line "wire:$wire" --lcm-url "$url" --count "$frames" --wait-nodes "$num" 2> "$work/master.log" & master=$!; pids+=($master)
+  --rate "$rate" --line "wire:$wire" --lcm-url "$url" "${key[@]}" --count "$frames" --wait-nodes "$num" 2> "$work/master.log" & master=$!; pids+=($master)
 wait_for 10 "$wire"
 for ((c = 0; c < num; c++)); do
   # shellcheck disable=SC2046

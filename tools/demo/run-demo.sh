@@ -15,6 +15,7 @@
 #                tree -> fit -> SKELETON
 #   listener     hullpose-listen: live fps and latency, skeletons to CSV
 #   live view    hullpose-web: the URL is printed; open it to watch the rig (tools/web/README.md)
+#   key          hullpose-rig-key makes the rig's key; every process signs and checks every message
 # The rate: 8 nodes subtracting 800x600 backgrounds and a fusion host share this machine's cores
 # (a real rig has a board per camera), so the demo triggers at HULLPOSE_DEMO_RATE (default 10 Hz;
 # measured: 15 Hz keeps every view, at 30 Hz a few views miss the host's deadline while other
@@ -38,7 +39,9 @@ eval_tool="$build/tools/eval/hullpose-eval"
 say "rendering $frames frames of 'walk' (RGB + empty-room backgrounds) for $num cameras (hullpose-synth --rgb)"
 "$synth" --motion walk --frames "$frames" --fps 30 --out "$work/data" --seed 1 --rgb --backgrounds 10 >&2
 cp "$work/data/rig.yaml" "$work/rig.yaml"
-"$root/tools/demo/node-configs.sh" "$work" "$num" "$work/data/rig.yaml" "{url}" "{wire}" rgb
+# The rig's key: every message of the demo is authenticated (docs/messages.md).
+"$build/tools/rig_key/hullpose-rig-key" --output "$work/rig.key" >&2
+RIG_KEY="$work/rig.key" "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/data/rig.yaml" "{url}" "{wire}" rgb
 say "camera nodes: hullpose-camera-node x $num (RGB replay, one frame per trigger edge, Horprasert background subtraction)"
 say "fusion host: hullpose-fusion-host (carve -> clean-up -> thin -> pose tree -> fit)"
 # The live view: hullpose-web on the rig's LCM URL (rig-loopback.sh takes its port from

@@ -25,15 +25,16 @@ void on_signal(int) {
 }
 
 const char* kUsage =
-    "usage: hullpose-listen [--lcm-url URL] [--channel SKELETON] [--format csv|jsonl|none] "
+    "usage: hullpose-listen [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--format "
+    "csv|jsonl|none] "
     "[--output FILE]\n"
     "         [--estimates FILE --frame-offset K] [--summary FILE] [--count N] [--duration-s S] "
     "[--live]\n"
     "         [--ready-file FILE]\n";
 
 struct Options {
-  std::string lcm_url, channel = "SKELETON", format = "csv", output = "-", estimates, summary,
-                       ready_file;
+  std::string lcm_url, rig_key, channel = "SKELETON", format = "csv", output = "-", estimates,
+                                summary, ready_file;
   long long count = 0, frame_offset = 0;
   double duration_s = 0;
   bool live = false;
@@ -44,6 +45,7 @@ std::optional<Options> parse(int argc, const char* const* argv) {
   Options o;
   hullpose::cli::CommandLine cl(kUsage);
   cl.option("--lcm-url", o.lcm_url)
+      .option("--rig-key", o.rig_key)
       .option("--channel", o.channel)
       .option("--format", o.format)
       .option("--output", o.output)
@@ -87,7 +89,7 @@ int run(int argc, const char* const* argv) {
   const std::optional<Options> parsed = parse(argc, argv);
   if (!parsed) return 0;
   const Options& o = *parsed;
-  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url);
+  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url, o.rig_key);
   std::ofstream file, estimates;
   Listener l(o);
   l.out = &std::cout;
@@ -134,8 +136,10 @@ int run(int argc, const char* const* argv) {
   l.out->flush();
   const std::string summary = l.stats.summary_json();
   if (!o.summary.empty()) std::ofstream(o.summary) << summary << "\n";
-  std::fprintf(stderr, "hullpose-listen: %s (dropped malformed: %lld)\n", summary.c_str(),
-               static_cast<long long>(l.dropped));
+  std::string drops;
+  for (const auto& [name, value] : bus->drops()) drops += " " + name + "=" + std::to_string(value);
+  std::fprintf(stderr, "hullpose-listen: %s (dropped malformed: %lld;%s)\n", summary.c_str(),
+               static_cast<long long>(l.dropped), drops.c_str());
   return 0;
 }
 }  // namespace

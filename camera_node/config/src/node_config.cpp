@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "hullpose/auth/rig_key.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/yaml.hpp"
 
@@ -49,8 +50,16 @@ void read_post(const yaml::Node& post, PostConfig& c) {
   }
 }
 
-void read_lcm(const yaml::Node& lcm, LcmConfig& c) {
+void read_lcm(const yaml::Node& lcm, const std::filesystem::path& base_dir, LcmConfig& c) {
   c.url = lcm.string_or("url", c.url);
+  if (const std::optional<yaml::Node> key = lcm.get("rig_key")) {
+    c.rig_key = resolve(base_dir, key->string());
+    try {
+      (void)auth::RigKey::load(c.rig_key.string());  // checked with the rest, before anything opens
+    } catch (const Error& e) {
+      HULLPOSE_THROW(key->where() << ": " << e.what());
+    }
+  }
   c.silhouette_channel = lcm.string_or("silhouette_channel", c.silhouette_channel);
   c.status_channel = lcm.string_or("status_channel", c.status_channel);
   c.queue_depth = lcm.integer_or("queue_depth", c.queue_depth, 1, 1024);
@@ -94,6 +103,8 @@ void read_trigger(const yaml::Node& trigger, const std::filesystem::path& base_d
   t.wait_ms = trigger.integer_or("wait_ms", t.wait_ms, 0, 10'000);
   t.connect_timeout_ms = trigger.integer_or("connect_timeout_ms", t.connect_timeout_ms, 0, 600'000);
   t.clock_offset_ms = trigger.integer_or("clock_offset_ms", 0, -3'600'000, 3'600'000);
+  t.clock_step_ms = trigger.integer_or("clock_step_ms", 0, -3'600'000, 3'600'000);
+  t.clock_step_after = trigger.integer_or("clock_step_after", 0, 0, 1 << 30);
 }
 
 }  // namespace
@@ -125,7 +136,8 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
   if (bgs_params) bgs_params->mark_all_read();
 
   if (const std::optional<yaml::Node> post = map(root, "post", false)) read_post(*post, c.post);
-  if (const std::optional<yaml::Node> lcm = map(root, "lcm", false)) read_lcm(*lcm, c.lcm);
+  if (const std::optional<yaml::Node> lcm = map(root, "lcm", false))
+    read_lcm(*lcm, c.base_dir, c.lcm);
   if (const std::optional<yaml::Node> trigger = map(root, "trigger", false))
     read_trigger(*trigger, c.base_dir, c.trigger);
   doc.check_all_read();

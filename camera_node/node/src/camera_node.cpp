@@ -34,7 +34,7 @@ Rig load_rig_for(const NodeConfig& c) {
 
 std::unique_ptr<bus::Bus> open_node_bus(const NodeConfig& config) {
   try {
-    return bus::open_bus(config.lcm.url);
+    return bus::open_bus(config.lcm.url, config.lcm.rig_key.string());
   } catch (const Error& e) {
     HULLPOSE_THROW(config.file.string() << ": lcm.url: " << e.what());
   }
@@ -43,6 +43,7 @@ std::unique_ptr<bus::Bus> open_node_bus(const NodeConfig& config) {
 CameraNode::CameraNode(NodeConfig config, bus::Bus& bus, const SourceRegistry& sources,
                        std::unique_ptr<FrameTrigger> trigger)
     : config_(std::move(config)),
+      bus_(bus),
       rig_(load_rig_for(config_)),
       cleanup_({config_.post.open_radius, config_.post.close_radius, config_.post.min_blob_area,
                 config_.post.max_hole_area}) {
@@ -244,6 +245,7 @@ void CameraNode::stop() {
     maybe_publish_status(true, hullpose_msg::node_status_t::STATE_STOPPED, "stopped");
     std::vector<std::pair<std::string, int64_t>> report = counters_.snapshot();
     if (trigger_) trigger_->report(report);
+    for (const auto& d : bus_.drops()) report.push_back(d);  // authentication
     std::string line;
     for (const auto& [name, value] : report) line += " " + name + "=" + std::to_string(value);
     HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": stopped after "
@@ -283,6 +285,7 @@ void CameraNode::maybe_publish_status(bool force, int8_t state, const std::strin
   counters.emplace_back("bytes_sent", publisher_->bytes_sent());
   counters.emplace_back("messages_sent", publisher_->messages_sent());
   if (trigger_) trigger_->report(counters);
+  for (const auto& d : bus_.drops()) counters.push_back(d);  // authentication
   for (const auto& [name, value] : counters) {
     st.counter_name.push_back(name);
     st.counter_value.push_back(value);

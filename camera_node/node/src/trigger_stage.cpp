@@ -42,7 +42,12 @@ void TriggerStage::start() {
                             << ", announcements on " << config_.channel;
 }
 
-TriggerStamp TriggerStage::to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) const {
+TriggerStamp TriggerStage::to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) {
+  if (config_.clock_step_ms != 0 && ++stamped_ == config_.clock_step_after) {
+    clock_.step_us->store(int64_t{config_.clock_step_ms} * 1000, std::memory_order_relaxed);
+    HULLPOSE_LOG(Stage, Warn) << "camera " << camera_id_ << ": board clock stepped by "
+                              << config_.clock_step_ms << " ms (trigger.clock_step_ms, a test)";
+  }
   // node realtime - master = (node realtime - node clock) + (node clock - master).
   const int64_t realtime_minus_node_clock = clock_.realtime_minus_node_us();
   return TriggerStamp{t.edge.seq, t.edge.utime, realtime_minus_node_clock + t.edge.offset_us,

@@ -46,7 +46,7 @@ class GpiodEdgeSource final : public EdgeSource {
       if (!line_.event_wait(std::chrono::nanoseconds(0))) return false;
       const gpiod::line_event ev = line_.event_read();
       if (ev.event_type != gpiod::line_event::RISING_EDGE) continue;
-      edge_us = ev.timestamp.count() / 1000 + clock_.offset_us;
+      edge_us = ev.timestamp.count() / 1000 + clock_.offset();
       return true;
     }
   }
@@ -94,7 +94,7 @@ class WireEdgeSource final : public EdgeSource {
     int64_t stamp_ns = 0;
     const ssize_t n = ::recv(fd_, &stamp_ns, sizeof(stamp_ns), MSG_DONTWAIT);
     if (n == sizeof(stamp_ns)) {
-      edge_us = stamp_ns / 1000 + clock_.offset_us;
+      edge_us = stamp_ns / 1000 + clock_.offset();
       return true;
     }
     if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) {

@@ -62,6 +62,11 @@ ReplaySummary run_replay(const ReplayOptions& options) {
       }
       views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
       HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
+      HULLPOSE_THROW_UNLESS(
+          views[c].cols == rig.cameras[c].width && views[c].rows == rig.cameras[c].height,
+          mask << ": the mask is " << views[c].cols << "x" << views[c].rows << ", camera "
+               << rig.cameras[c].id << " of the rig is " << rig.cameras[c].width << "x"
+               << rig.cameras[c].height);
     }
     const fusion::FrameOutcome& outcome = pipeline.process(views);
     const fusion::FusionResult& hull = *outcome.hull;

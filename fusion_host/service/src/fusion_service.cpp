@@ -168,6 +168,10 @@ void FusionService::publish_status(int64_t now_us) {
       s.counter_value.push_back(value);
     }
   }
+  for (const auto& [name, value] : bus_.drops()) {
+    s.counter_name.push_back(name);
+    s.counter_value.push_back(value);
+  }
   s.num_counters = static_cast<int32_t>(s.counter_name.size());
   if (!wire::publish(bus_, config_.status_channel, s, status_buffer_))
     counters_.add("publish_error");

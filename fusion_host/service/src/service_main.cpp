@@ -20,6 +20,7 @@ void on_signal(int) {
 struct Options {
   std::string rig_file;
   std::string lcm_url;
+  std::string rig_key;     // the rig's key file: messages authenticated (docs/messages.md)
   std::string ready_file;  // written once subscribed (for scripts that start publishers next)
   double duration_s = 0;   // 0: until a signal
   ServiceConfig service;
@@ -27,7 +28,8 @@ struct Options {
 };
 
 constexpr const char* kUsage =
-    " --rig FILE [--lcm-url URL] [--min-cameras N] [--deadline-ms MS] [--deadline-from "
+    " --rig FILE [--lcm-url URL] [--rig-key FILE] [--min-cameras N] [--deadline-ms MS] "
+    "[--deadline-from "
     "first|trigger]\n"
     "    [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] "
     "[--resolution N]\n"
@@ -48,6 +50,7 @@ std::optional<Options> parse(int argc, const char* const* argv, const char* tool
   cli::CommandLine cl(std::string("usage: ") + tool + kUsage);
   cl.option("--rig", o.rig_file)
       .option("--lcm-url", o.lcm_url)
+      .option("--rig-key", o.rig_key)
       .option("--min-cameras", a.min_cameras)
       .option("--deadline-ms", ms_to_us(a.deadline_us, "--deadline-ms"))
       .option("--max-clock-skew-ms", ms_to_us(a.max_clock_skew_us, "--max-clock-skew-ms"))
@@ -81,7 +84,7 @@ int service_main(
   if (!parsed) return 0;
   const Options& o = *parsed;
   const Rig rig = load_rig(o.rig_file);
-  const std::unique_ptr<bus::Bus> bus = bus::open_bus(o.lcm_url);
+  const std::unique_ptr<bus::Bus> bus = bus::open_bus(o.lcm_url, o.rig_key);
   auto pipeline = make_pipeline(rig, o.pipeline);
   FusionService service(*bus, system_clock(), rig, *pipeline, o.service);
   if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
@@ -95,6 +98,8 @@ int service_main(
   for (const Counters* c : {&service.assembler().counters(), &service.counters()})
     for (const auto& [name, value] : c->snapshot())
       std::fprintf(stderr, " %s=%lld", name.c_str(), static_cast<long long>(value));
+  for (const auto& [name, value] : bus->drops())
+    std::fprintf(stderr, " %s=%lld", name.c_str(), static_cast<long long>(value));
   std::fprintf(stderr, "\n");
   return 0;
 }

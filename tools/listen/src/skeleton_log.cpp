@@ -10,18 +10,15 @@
 namespace hullpose::listen {
 
 void LatencySeries::add(int32_t us) {
-  if (samples_.size() < kCapacity) {
-    samples_.push_back(us);
-  } else {
-    samples_[next_] = us;
-    next_ = (next_ + 1) % kCapacity;
-  }
+  samples_[next_] = us;
+  next_ = (next_ + 1) % kCapacity;
+  filled_ = std::min(filled_ + 1, kCapacity);
   ++total_;
 }
 
 double LatencySeries::percentile_ms(double q) const {
-  if (samples_.empty()) return 0;
-  std::vector<int32_t> v = samples_;
+  if (filled_ == 0) return 0;
+  std::vector<int32_t> v(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(filled_));
   const auto k = static_cast<size_t>(std::min<double>(
       static_cast<double>(v.size() - 1), std::floor(q * static_cast<double>(v.size()))));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
@@ -29,7 +26,10 @@ double LatencySeries::percentile_ms(double q) const {
 }
 
 double LatencySeries::max_ms() const {
-  return samples_.empty() ? 0 : *std::max_element(samples_.begin(), samples_.end()) / 1000.0;
+  return filled_ == 0 ? 0
+                      : *std::max_element(samples_.begin(),
+                                          samples_.begin() + static_cast<std::ptrdiff_t>(filled_)) /
+                            1000.0;
 }
 
 void SkeletonStats::add(const hullpose_msg::skeleton_t& s) {

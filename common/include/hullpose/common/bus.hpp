@@ -10,15 +10,17 @@
 // thread; handlers run on the thread that calls handle().
 //
 // Typed messages go through lcm_types' wire::publish / wire::decode, which bounds-check the bytes
-// before lcm-gen's decoder sees them. A layer on the raw bytes — message authentication over
-// channel name + payload (issue #19) — belongs in ONE place: a Bus that wraps the one open_bus()
-// returns (open_bus() in common/src/bus.cpp is where every process gets its bus), checking on
-// receive before calling the handler and appending on publish.
+// before lcm-gen's decoder sees them. The layer on the raw bytes — message authentication over
+// channel name + payload (docs/messages.md, "Authentication") — is in ONE place: the
+// auth::AuthenticatedBus that open_bus() wraps around LCM, signing on publish and checking on
+// receive before any handler; with no key file it only strips trailers.
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hullpose::bus {
 
@@ -66,10 +68,19 @@ class Bus {
   virtual int fd() const = 0;
   // What was opened, for logs and errors ("udpm://239.255.76.67:7667?ttl=0", "memq://").
   virtual const std::string& url() const = 0;
+  // Messages the bus itself dropped before any handler, by reason (authentication:
+  // docs/messages.md); processes add them to their STATUS counters.
+  virtual std::vector<std::pair<std::string, int64_t>> drops() const { return {}; }
 };
 
 // LCM at `url` ("" = LCM's default, LCM_DEFAULT_URL; "memq://" in tests). Throws hullpose::Error
-// naming the URL when LCM cannot open it (bad URL, no multicast route).
-std::unique_ptr<Bus> open_bus(const std::string& url);
+// naming the URL when LCM cannot open it (bad URL, no multicast route). With `rig_key_file`
+// (the rig's key, docs/messages.md "Authentication") every message published is signed and every
+// message received is checked before its handlers (auth::AuthenticatedBus); the key file is
+// read and checked here (hullpose::Error naming it when missing, malformed or not private).
+std::unique_ptr<Bus> open_bus(const std::string& url, const std::string& rig_key_file = "");
+// LCM alone, without the authentication layer (what open_bus wraps): for tests that play a
+// foreign host on the wire. Programs use open_bus.
+std::unique_ptr<Bus> open_lcm_bus(const std::string& url);
 
 }  // namespace hullpose::bus

@@ -20,6 +20,7 @@
 //     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
+//     rig_key: /etc/hullpose/rig.key  # the rig's key: messages authenticated (docs/messages.md)
 //     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
 //     status_period_ms: 1000
 //   trigger:                        # optional: without it the node is free-running (trigger_seq =
@@ -34,6 +35,8 @@
 //     wait_ms: 50                   # how long a frame waits for its edge's announcement
 //     connect_timeout_ms: 10000     # wire: how long start() waits for the master's socket
 //     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in production)
+//     clock_step_ms: 0              # tests: the board clock steps by this much (an NTP step) ...
+//     clock_step_after: 0           # ... once this many frames have been stamped
 // With a trigger, a camera that exposes on the trigger line (libcamera/v4l2 with external trigger)
 // gets each frame tagged with its edge; a simulated sensor (file, synthetic) exposes exactly one
 // frame per edge, showing the instant of that trigger.
@@ -67,6 +70,7 @@ struct PostConfig {
 
 struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  std::filesystem::path rig_key;  // empty: an open rig (no authentication)
   std::string silhouette_channel = "SILHOUETTE";
   std::string status_channel = "STATUS";
   int queue_depth = 4;
@@ -85,6 +89,8 @@ struct TriggerConfig {
   int wait_ms = 50;
   int connect_timeout_ms = 10000;
   int clock_offset_ms = 0;
+  int clock_step_ms = 0;
+  int clock_step_after = 0;
 };
 
 struct NodeConfig {

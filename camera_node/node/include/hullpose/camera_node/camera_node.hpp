@@ -112,6 +112,7 @@ class CameraNode {
   void maybe_publish_status(bool force, int8_t state, const std::string& message);
 
   NodeConfig config_;
+  bus::Bus& bus_;  // the process's; outlives the node
   Rig rig_;
   CameraModel camera_;
   cv::Rect roi_;

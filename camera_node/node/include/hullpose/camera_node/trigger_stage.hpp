@@ -26,7 +26,7 @@ class TriggerStage final : public FrameTrigger {
   void report(std::vector<std::pair<std::string, int64_t>>& out) const override;
 
  private:
-  TriggerStamp to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) const;
+  TriggerStamp to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime);
 
   TriggerConfig config_;
   bus::Bus& bus_;
@@ -37,6 +37,7 @@ class TriggerStage final : public FrameTrigger {
   std::unique_ptr<trigger::TriggerClient> client_;
   std::vector<trigger::TaggedFrame> tagged_;
   // Free-running camera: how far the chosen frames were from their edges (sensor - edge).
+  int64_t stamped_ = 0;  // frames stamped, for trigger.clock_step_after
   int64_t residual_count_ = 0, residual_abs_sum_us_ = 0, residual_abs_max_us_ = 0;
 };
 

@@ -7,6 +7,7 @@
 // plus a configured offset (a board whose clock is off by that much; 0 in production).
 // Everything that compares with edge times (announcement receive times, sensor timestamps) must
 // use NodeClock with the same offset and Clock.
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -19,7 +20,10 @@ namespace hullpose::trigger {
 struct NodeClock {
   int64_t offset_us = 0;
   Clock* clock = &system_clock();  // tests: a SimClock
-  int64_t now_us() const { return clock->monotonic_us() + offset_us; }
+  // Tests: a step of the board clock at run time (trigger.clock_step_ms), shared by every copy.
+  std::shared_ptr<std::atomic<int64_t>> step_us = std::make_shared<std::atomic<int64_t>>(0);
+  int64_t offset() const { return offset_us + step_us->load(std::memory_order_relaxed); }
+  int64_t now_us() const { return clock->monotonic_us() + offset(); }
   // Maps the sensor's realtime timestamps onto the node clock.
   int64_t realtime_minus_node_us() const { return clock->realtime_utime() - now_us(); }
 };

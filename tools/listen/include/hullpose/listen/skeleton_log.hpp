@@ -12,11 +12,12 @@
 
 namespace hullpose::listen {
 
-// Percentiles over the last kCapacity samples (a preallocated ring).
+// Percentiles over the last kCapacity samples (a preallocated ring, its pages touched at
+// construction: the listener's memory is the same after an hour as after a second).
 class LatencySeries {
  public:
   static constexpr size_t kCapacity = 1 << 18;
-  LatencySeries() { samples_.reserve(kCapacity); }
+  LatencySeries() : samples_(kCapacity, 0) {}
   void add(int32_t us);
   size_t count() const { return total_; }
   // q in [0, 1]; 0 when empty. Sorts a copy: for summaries, not per message.
@@ -25,7 +26,7 @@ class LatencySeries {
 
  private:
   std::vector<int32_t> samples_;
-  size_t next_ = 0, total_ = 0;
+  size_t filled_ = 0, next_ = 0, total_ = 0;
 };
 
 inline constexpr std::array<const char*, 5> kStages = {"capture", "node_done", "received", "fused",
