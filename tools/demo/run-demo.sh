@@ -50,7 +50,7 @@ export HULLPOSE_RIG_PORT=${HULLPOSE_RIG_PORT:-$(( 7200 + $$ % 300 ))}
 web_url="udpm://239.255.76.67:$HULLPOSE_RIG_PORT?ttl=0"
 start_web() {
   rm -f "$work/web.json"
-  "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --lcm-url "$web_url" --port "$1" --ready-file "$work/web.json" \
+  "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --lcm-url "$web_url" --rig-key "$work/rig.key" --port "$1" --ready-file "$work/web.json" \
     2> "$work/web.log" & web_pid=$!
   for _ in $(seq 100); do [[ -s $work/web.json ]] && return 0; kill -0 "$web_pid" 2>/dev/null || return 1; sleep 0.05; done
   return 1

@@ -23,14 +23,15 @@ void on_signal(int) {
 }
 
 const char* kUsage =
-    "usage: hullpose-stream [--lcm-url URL] [--channel SKELETON] [--rig-id ID]\n"
+    "usage: hullpose-stream [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--rig-id ID]\n"
     "         [--vmc HOST:PORT] [--bvh-tcp PORT [--bvh-bind 0.0.0.0]] [--bvh-udp HOST:PORT] "
     "[--bvh-format axis|plain]\n"
     "         [--queue 8] [--duration-s S] [--ready-file FILE] [--stats FILE]\n";
 
 struct Options {
   hullpose::skeleton_io::SubscriptionOptions sub;
-  std::string lcm_url, vmc, bvh_udp, bvh_bind = "0.0.0.0", bvh_format = "axis", ready_file, stats;
+  std::string lcm_url, rig_key, vmc, bvh_udp, bvh_bind = "0.0.0.0", bvh_format = "axis", ready_file,
+                                              stats;
   int bvh_tcp = -1;
   long long queue = 8;
   double duration_s = 0;
@@ -44,6 +45,7 @@ int run(int argc, const char* const* argv) {
   o.sub.status_channel.clear();
   hullpose::cli::CommandLine cl(kUsage);
   cl.option("--lcm-url", o.lcm_url)
+      .option("--rig-key", o.rig_key)
       .option("--channel", o.sub.skeleton_channel)
       .option("--rig-id", o.sub.rig_id)
       .option("--vmc", o.vmc)
@@ -83,7 +85,7 @@ int run(int argc, const char* const* argv) {
   std::vector<double> channels;
   int64_t frames = 0, invalid = 0;
   const int64_t start = hullpose::monotonic_us();
-  const auto bus = hullpose::bus::open_bus(o.lcm_url);
+  const auto bus = hullpose::bus::open_bus(o.lcm_url, o.rig_key);
   sio::Subscription sub(*bus, o.sub, [&](const sio::SkeletonFrame& f, int64_t) {
     ++frames;
     if (!f.valid) ++invalid;

@@ -21,7 +21,8 @@ void on_signal(int) {
 }
 
 const char* kUsage =
-    "usage: hullpose-web [--rig FILE] [--lcm-url URL] [--rig-id ID] [--port 8080] [--bind 0.0.0.0] "
+    "usage: hullpose-web [--rig FILE] [--lcm-url URL] [--rig-key FILE] [--rig-id ID] [--port 8080] "
+    "[--bind 0.0.0.0] "
     "[--queue 8]\n"
     "         [--play TAKE (estimate .csv | lcm-logger log) [--fps 30] [--once]]\n"
     "         [--page DIR] [--three DIR] [--duration-s S] [--ready-file FILE]\n";
@@ -32,14 +33,15 @@ int run(int argc, const char* const* argv) {
   hullpose::web::WebOptions w;
   w.page_dir = HULLPOSE_WEB_PAGE_DIR;
   sio::SubscriptionOptions sub;
-  std::string lcm_url, rig_file, play, page = w.page_dir.string(), three = w.three_dir.string(),
-                                       ready_file;
+  std::string lcm_url, rig_key, rig_file, play, page = w.page_dir.string(),
+                                                three = w.three_dir.string(), ready_file;
   long long queue = 8;
   double fps = 30, duration_s = 0;
   bool once = false;
   hullpose::cli::CommandLine cl(kUsage);
   cl.option("--rig", rig_file)
       .option("--lcm-url", lcm_url)
+      .option("--rig-key", rig_key)
       .option("--rig-id", sub.rig_id)
       .option("--port", w.port)
       .option("--bind", w.bind)
@@ -87,7 +89,7 @@ int run(int argc, const char* const* argv) {
       std::this_thread::sleep_until(next);  // the take's own clock
     }
   } else {
-    const auto bus = hullpose::bus::open_bus(lcm_url);
+    const auto bus = hullpose::bus::open_bus(lcm_url, rig_key);
     sio::Subscription live(
         *bus, sub, [&](const sio::SkeletonFrame& f, int64_t) { server.publish_skeleton(f); },
         [&](const hullpose_msg::node_status_t& s) { server.publish_status(s); });

@@ -7,6 +7,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 
+#include "hullpose/auth/message_auth.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/msg/wire.hpp"
 
@@ -33,10 +34,13 @@ Take read_log(const std::filesystem::path& path, double fps, const std::string& 
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != channel) continue;
     SkeletonFrame f;
+    // A keyed rig's log holds each message with its MAC trailer (docs/messages.md); a recorded
+    // take is read without the key, as an open receiver reads it.
     if (e->datalen < 0 ||
-        !wire::decode(std::span<const uint8_t>(static_cast<const uint8_t*>(e->data),
-                                               static_cast<size_t>(e->datalen)),
-                      msg) ||
+        !wire::decode(
+            std::span<const uint8_t>(static_cast<const uint8_t*>(e->data),
+                                     auth::strip_trailer(e->data, static_cast<size_t>(e->datalen))),
+            msg) ||
         !from_message(msg, f)) {
       ++take.malformed;
       continue;
