@@ -3,13 +3,15 @@
 BUILD       ?= build
 BUILD_ASAN  ?= build-asan
 BUILD_FUZZ  ?= build-fuzz
+BUILD_PKG   ?= build-package
+BUILD_ARM64 ?= build-arm64
 JOBS        ?= $(shell nproc)
 CMAKE_FLAGS ?=
 FUZZ_SECONDS ?= 60
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz format clean
+.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz format clean package cross
 
 all: build
 
@@ -48,8 +50,21 @@ fuzz: deps
 	$(CMAKE) --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_targets
 	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)
 
+# The Debian packages per role (cmake/HullposePackaging.cmake) in $(BUILD_PKG)/packages, built for
+# any CPU of this architecture (no -march=native), checked with lintian.
+package: deps
+	$(CMAKE) -S . -B $(BUILD_PKG) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_NATIVE=OFF $(CMAKE_FLAGS)
+	$(CMAKE) --build $(BUILD_PKG) -j $(JOBS) --target $$(sed -n 's/^HULLPOSE_PACKAGED_TARGETS=//p' $(BUILD_PKG)/hullpose-packaging.txt | tr ';' ' ')
+	rm -rf $(BUILD_PKG)/packages && cd $(BUILD_PKG) && cpack -G DEB -B $(CURDIR)/$(BUILD_PKG)/packages && rm -rf packages/_CPack_Packages
+	lintian --suppress-tags-from-file deploy/debian/lintian-overrides.txt $(BUILD_PKG)/packages/*.deb
+
+# The boards' build: arm64 packages from Debian's cross toolchain and an arm64 sysroot, unit tests
+# under qemu-user-static (deploy/cross/build.sh; figures in $(BUILD_ARM64)/figures.txt).
+cross: deps
+	deploy/cross/build.sh $(BUILD_ARM64) $(JOBS)
+
 format:
 	@git ls-files '*.cpp' '*.hpp' '*.cu' '*.cuh' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ)
+	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ) $(BUILD_PKG) $(BUILD_ARM64)
