@@ -263,6 +263,18 @@ TEST_CASE("the trigger master announces another rig id than the rig file's") {
   CHECK_THAT(r.fix, Catch::Contains("HULLPOSE_RIG_ID=thesis8"));
 }
 
+TEST_CASE("the shipped and the board profiles' camera configs load") {
+  const fs::path src = HULLPOSE_SOURCE_DIR;
+  for (const char* file : {"deploy/config/camera0.yaml", "deploy/boards/rpi5-global-shutter/camera.yaml",
+                           "deploy/boards/rpi-hq-free-running/camera.yaml"}) {
+    const CameraSetup c = load_camera(Host("/"), (src / file).string());
+    INFO(file);
+    CHECK(c.error.empty());
+    CHECK(c.source == "libcamera");
+    CHECK(c.trigger_edges == "gpiod:pinctrl-rp1:17");
+  }
+}
+
 TEST_CASE("LCM URLs: udpm options, other providers") {
   const auto u = parse_udpm("udpm://239.255.76.70:7700?ttl=2&recv_buf_size=1048576");
   REQUIRE(u);

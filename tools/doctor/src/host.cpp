@@ -133,6 +133,7 @@ GpioChip Host::gpio_chip(const std::string& chip) const {
 
 GpioLine Host::gpio_line(const std::string& chip, unsigned offset) const {
   GpioLine l;
+#if HULLPOSE_DOCTOR_LIBGPIOD
   const std::string path = chip_path_spec(chip);
   try {
     gpiod::chip g(path.empty() ? chip : at(path).string(),
@@ -144,6 +145,9 @@ GpioLine Host::gpio_line(const std::string& chip, unsigned offset) const {
     l.used = true;
     l.consumer = std::string("(line info unreadable: ") + e.what() + ")";
   }
+#else
+  (void)chip, (void)offset;
+#endif
   return l;
 }
 
@@ -153,6 +157,7 @@ CameraList Host::cameras() const {
     list.error = "libcamera is only asked on the real root";
     return list;
   }
+#if HULLPOSE_DOCTOR_LIBCAMERA
   // libcamera logs every pipeline handler it tries at INFO; the doctor's own message says enough.
   ::setenv("LIBCAMERA_LOG_LEVELS", "*:ERROR", 0);
   libcamera::CameraManager manager;
@@ -163,6 +168,9 @@ CameraList Host::cameras() const {
   list.probed = true;
   for (const auto& camera : manager.cameras()) list.ids.push_back(camera->id());
   manager.stop();
+#else
+  list.error = "this build of hullpose-doctor has no libcamera";
+#endif
   return list;
 }
 
