@@ -47,7 +47,13 @@ for d in "${debs[@]}"; do
     grep -qx "$f" <<<"$conf" || fail "$f of $(basename "$d") is not a conffile"
   done
 done
-echo "files: $(wc -l < "$work/files.txt") files, all on the plan; /etc files are conffiles"
+for d in "${debs[@]}"; do
+  mkdir -p "$work/control/$(basename "$d")" && dpkg-deb -e "$d" "$work/control/$(basename "$d")"
+  for s in postinst prerm postrm; do
+    sh -n "$work/control/$(basename "$d")/$s" || fail "$s of $(basename "$d") is not valid sh"
+  done
+done
+echo "files: $(wc -l < "$work/files.txt") files, all on the plan; /etc files are conffiles; maintainer scripts parse"
 
 # 4. A throw-away root: systemd's own units (as on any Debian board) + the unpacked packages.
 mkdir -p "$root/usr/lib/systemd"
