@@ -8,6 +8,9 @@
 # `make package` builds them (build-package/, no -march=native); `make cross` the arm64 ones.
 # Only these files are installed: nothing else of the build tree (no headers, no static libraries).
 include(GNUInstallDirs)
+# cpack (and `make install`) must not build everything first: the packages need only their
+# programs, which `make package` and deploy/cross/build.sh build (not the tests and benchmarks).
+set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
 set(_deploy ${PROJECT_SOURCE_DIR}/deploy)
 
 # component -> package, programs, units, config files (under /etc/hullpose), summary
