@@ -47,8 +47,10 @@ TEST_CASE("fusion service: every sequence is published, fused or with its reason
   testing::SeqCheckPipeline pipeline;
   fusion::ServiceConfig cfg;
   cfg.assembler.min_cameras = 2;
-  cfg.assembler.deadline_us = 5'000;
-  cfg.assembler.no_views_timeout_us = 5'000;
+  // The deadlines run on the wall clock while the test feeds the views: 50 ms leaves room for a
+  // slow machine (under qemu-user, make cross, 5 ms let a frame close before its last view).
+  cfg.assembler.deadline_us = 50'000;
+  cfg.assembler.no_views_timeout_us = 50'000;
   fusion::FusionService service(bus, rig, pipeline, cfg);
   Sink sink;
   bus.subscribe("SKELETON", &Sink::on_skeleton, &sink);
