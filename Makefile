@@ -56,7 +56,7 @@ package: deps
 	$(CMAKE) -S . -B $(BUILD_PKG) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_NATIVE=OFF $(CMAKE_FLAGS)
 	$(CMAKE) --build $(BUILD_PKG) -j $(JOBS) --target $$(sed -n 's/^HULLPOSE_PACKAGED_TARGETS=//p' $(BUILD_PKG)/hullpose-packaging.txt | tr ';' ' ')
 	rm -rf $(BUILD_PKG)/packages && cd $(BUILD_PKG) && cpack -G DEB -B $(CURDIR)/$(BUILD_PKG)/packages && rm -rf packages/_CPack_Packages
-	lintian --suppress-tags-from-file deploy/debian/lintian-overrides.txt $(BUILD_PKG)/packages/*.deb
+	lintian --fail-on error,warning --suppress-tags-from-file deploy/debian/lintian-overrides.txt $(BUILD_PKG)/packages/*.deb
 
 # The boards' build: arm64 packages from Debian's cross toolchain and an arm64 sysroot, unit tests
 # under qemu-user-static (deploy/cross/build.sh; figures in $(BUILD_ARM64)/figures.txt).

@@ -33,7 +33,7 @@ names=$(for d in "${debs[@]}"; do dpkg-deb -f "$d" Package; done | sort | tr '\n
 echo "packages: $names"
 
 # 2. lintian: nothing but the tags explained in the overrides file.
-lintian --suppress-tags-from-file "$src/deploy/debian/lintian-overrides.txt" "${debs[@]}" > "$work/lintian.log" 2>&1 || true
+lintian --fail-on error,warning --suppress-tags-from-file "$src/deploy/debian/lintian-overrides.txt" "${debs[@]}" > "$work/lintian.log" 2>&1 || { cat "$work/lintian.log"; fail "lintian"; }
 if grep -E '^[EWI]: ' "$work/lintian.log"; then fail "lintian reports the lines above"; fi
 echo "lintian: clean (with deploy/debian/lintian-overrides.txt)"
 
