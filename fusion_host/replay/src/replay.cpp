@@ -1,9 +1,11 @@
 #include "hullpose/replay/replay.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
@@ -32,17 +34,19 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   const DatasetPaths paths(options.dataset);
   const Rig rig = load_rig(paths.rig());
   const DatasetMeta meta = read_meta(paths.meta());
-  const int frames = options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
+  const int frames =
+      options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
 
   Counters counters;
-  fusion::FusionCore core(rig, options.fusion, &counters);
-  pose::PoseEstimator estimator(options.pose);
+  fusion::PosePipeline pipeline(rig, options.fusion, options.pose, &counters);
   EstimateWriter writer(options.out);
   const std::filesystem::path timings_path =
-      options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv") : options.timings;
+      options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv")
+                              : options.timings;
   std::ofstream timings(timings_path);
   HULLPOSE_THROW_UNLESS(timings, timings_path << ": cannot open for writing");
-  timings << "frame,valid,reason,carve_ms,cleanup_ms,thin_ms,fusion_ms,tree_ms,fit_ms,total_ms,skeleton_voxels,"
+  timings << "frame,valid,reason,carve_ms,cleanup_ms,thin_ms,fusion_ms,tree_ms,fit_ms,total_ms,"
+             "skeleton_voxels,"
              "stature_mm\n";
 
   std::vector<cv::Mat> views(rig.cameras.size());
@@ -59,13 +63,12 @@ ReplaySummary run_replay(const ReplayOptions& options) {
       views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
       HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
     }
-    const fusion::FusionResult& hull = core.process(views);
-    const pose::PoseEstimate& pose = hull.valid ? estimator.estimate(hull.skeleton_voxels, hull.grid)
-                                                : estimator.estimate({}, hull.grid);
+    const fusion::FrameOutcome& outcome = pipeline.process(views);
+    const fusion::FusionResult& hull = *outcome.hull;
+    const pose::PoseEstimate& pose = *outcome.pose;
     record.frame = f;
-    record.valid = pose.valid;
-    record.reason = pose.reason;
-    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews) record.reason = 1;  // REASON_TOO_FEW_CAMERAS
+    record.valid = outcome.valid;
+    record.reason = outcome.reason;
     record.joints = pose.joints_mm;
     writer.write(record);
 
@@ -76,10 +79,10 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     tree.push_back(tree_ms);
     fit.push_back(fit_ms);
     total.push_back(hull.timings.total_ms + tree_ms + fit_ms);
-    timings << f << ',' << pose.valid << ',' << int{record.reason} << ',' << hull.timings.carve_ms << ','
-            << hull.timings.cleanup_ms << ',' << hull.timings.thin_ms << ',' << hull.timings.total_ms << ','
-            << tree_ms << ',' << fit_ms << ',' << total.back() << ',' << hull.skeleton_voxels.size() << ','
-            << pose.stature_mm << '\n';
+    timings << f << ',' << pose.valid << ',' << int{record.reason} << ',' << hull.timings.carve_ms
+            << ',' << hull.timings.cleanup_ms << ',' << hull.timings.thin_ms << ','
+            << hull.timings.total_ms << ',' << tree_ms << ',' << fit_ms << ',' << total.back()
+            << ',' << hull.skeleton_voxels.size() << ',' << pose.stature_mm << '\n';
     summary.valid += pose.valid;
     if (!pose.valid) {
       HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
@@ -93,12 +96,13 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   summary.tree_ms = median(tree);
   summary.fit_ms = median(fit);
   summary.total_ms = median(total);
-  summary.stature_mm = estimator.last().stature_mm;
+  summary.stature_mm = pipeline.estimator().last().stature_mm;
   return summary;
 }
 
 bool is_replay_command(int argc, const char* const* argv) {
-  return std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--replay"; });
+  return std::any_of(argv + 1, argv + argc,
+                     [](const char* a) { return std::string_view(a) == "--replay"; });
 }
 
 std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv) {
@@ -106,11 +110,15 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
   options.fusion.resolution = 128;
   std::string dataset, out, timings;
   cli::CommandLine line(
-      "usage: hullpose-fusion-host --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
-      "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel]\n"
+      "usage: hullpose-fusion-host --replay DIR --out FILE [--resolution N] [--frames N] "
+      "[--threads N]\n"
+      "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
+      "ck3|isthmus|endvoxel]\n"
       "         [--timings FILE]\n"
-      "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the estimates\n"
-      "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve constraint\n"
+      "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the "
+      "estimates\n"
+      "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
+      "constraint\n"
       "(fusion_host/pose/README.md compares them).\n");
   line.option("--replay", dataset)
       .option("--out", out)
@@ -120,10 +128,13 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       .option("--threads", options.fusion.threads)
       .option("--skeletoniser",
               [&](const std::string& v) {
-                HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
-                options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+                HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d",
+                                      "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
+                options.fusion.skeletoniser =
+                    v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
               })
-      .option("--backend", [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
+      .option("--backend",
+              [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
       .option("--curve-rule", [&](const std::string& v) {
         if (v == "ck3") {
           options.fusion.curve_rule = thin::CurveRule::kCk3;
@@ -135,11 +146,9 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
           HULLPOSE_THROW("--curve-rule: expected ck3, isthmus or endvoxel, got '" << v << "'");
         }
       });
-  if (!line.parse(argc, argv)) {
-    std::fputs(line.usage().c_str(), stdout);
-    return std::nullopt;
-  }
-  HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(), "--replay DIR and --out FILE are both needed");
+  if (!line.parse(argc, argv)) return std::nullopt;
+  HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(),
+                        "--replay DIR and --out FILE are both needed");
   options.dataset = dataset;
   options.out = out;
   options.timings = timings;
@@ -150,10 +159,20 @@ int replay_cli(int argc, const char* const* argv) {
   const std::optional<ReplayOptions> options = parse_replay_args(argc, argv);
   if (!options) return 0;
   const ReplaySummary s = run_replay(*options);
-  std::printf(
-      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, \"thin\": %.3f, "
-      "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",
-      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms, s.total_ms);
+  using Json = nlohmann::ordered_json;
+  // Divided by a power of ten, so that the printed number is the short one.
+  const auto round = [](double v, double per_unit) { return std::round(v * per_unit) / per_unit; };
+  const Json summary{{"frames", s.frames},
+                     {"valid", s.valid},
+                     {"stature_mm", round(s.stature_mm, 10)},
+                     {"median_ms",
+                      {{"carve", round(s.carve_ms, 1000)},
+                       {"thin", round(s.thin_ms, 1000)},
+                       {"fusion", round(s.fusion_ms, 1000)},
+                       {"tree", round(s.tree_ms, 1000)},
+                       {"fit", round(s.fit_ms, 1000)},
+                       {"total", round(s.total_ms, 1000)}}}};
+  std::cout << summary.dump() << '\n';
   return 0;
 }
 

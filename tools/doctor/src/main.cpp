@@ -5,8 +5,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/doctor/checks.hpp"
 
 namespace {
@@ -23,59 +23,54 @@ constexpr const char* kUsage =
     "  --root DIR      read procfs, sysfs, /dev and /etc under DIR (a fake tree; tests)\n"
     "  --startup       print only what is not ok (for ExecStartPre)\n"
     "  Exit status: 0 nothing failed (warnings allowed), 1 a check failed, 2 bad options.\n";
+
+int run(int argc, const char* const* argv) {
+  using namespace hullpose;
+  std::string role_text = "all", config, lcm_url, rig, trigger_line, root = "/";
+  bool startup = false, json = false, lcm_given = false;
+  cli::CommandLine line(kUsage);
+  line.option("--role", role_text)
+      .option("--config", config)
+      .option("--lcm-url", [&](const std::string& v) { lcm_url = v, lcm_given = true; })
+      .option("--rig", rig)
+      .option("--trigger-line", trigger_line)
+      .option("--root", root)
+      .flag("--startup", startup)
+      .flag("--json", json);
+  if (!line.parse(argc, argv)) return 0;
+  const doctor::Role role = doctor::parse_role(role_text);
+  const doctor::Host host(root);
+  doctor::Setup setup =
+      doctor::setup_from_etc(host, config.empty() ? role : doctor::Role::kFusionHost);
+  setup.role = role;
+  if (!config.empty()) setup.cameras = {doctor::load_camera(host, config)};
+  if (lcm_given) setup.lcm_url = lcm_url;
+  if (!rig.empty()) setup.rig_file = rig;
+  if (!trigger_line.empty()) setup.trigger_line = trigger_line;
+
+  const std::vector<doctor::Result> results = doctor::run_checks(host, setup);
+  bool failed = false;
+  nlohmann::json out = nlohmann::json::array();
+  for (const doctor::Result& r : results) {
+    failed = failed || r.status == doctor::Status::kFail;
+    if (json) {
+      out.push_back({{"check", r.check},
+                     {"status", doctor::status_name(r.status)},
+                     {"message", r.message},
+                     {"fix", r.fix}});
+      continue;
+    }
+    if (startup && (r.status == doctor::Status::kOk || r.status == doctor::Status::kSkip)) continue;
+    std::printf("[%-4s] %s: %s\n", doctor::status_name(r.status), r.check.c_str(),
+                r.message.c_str());
+    if (!r.fix.empty()) std::printf("       fix: %s\n", r.fix.c_str());
+  }
+  if (json) std::cout << out.dump(2) << "\n";
+  std::fflush(stdout);
+  return failed ? 1 : 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace hullpose;
-  try {
-    std::string role_text = "all", config, lcm_url, rig, trigger_line, root = "/";
-    bool startup = false, json = false, lcm_given = false;
-    cli::CommandLine line(kUsage);
-    line.option("--role", role_text)
-        .option("--config", config)
-        .option("--lcm-url", [&](const std::string& v) { lcm_url = v, lcm_given = true; })
-        .option("--rig", rig)
-        .option("--trigger-line", trigger_line)
-        .option("--root", root)
-        .flag("--startup", startup)
-        .flag("--json", json);
-    if (!line.parse(argc, argv)) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    const doctor::Role role = doctor::parse_role(role_text);
-    const doctor::Host host(root);
-    doctor::Setup setup =
-        doctor::setup_from_etc(host, config.empty() ? role : doctor::Role::kFusionHost);
-    setup.role = role;
-    if (!config.empty()) setup.cameras = {doctor::load_camera(host, config)};
-    if (lcm_given) setup.lcm_url = lcm_url;
-    if (!rig.empty()) setup.rig_file = rig;
-    if (!trigger_line.empty()) setup.trigger_line = trigger_line;
-
-    const std::vector<doctor::Result> results = doctor::run_checks(host, setup);
-    bool failed = false;
-    nlohmann::json out = nlohmann::json::array();
-    for (const doctor::Result& r : results) {
-      failed = failed || r.status == doctor::Status::kFail;
-      if (json) {
-        out.push_back({{"check", r.check},
-                       {"status", doctor::status_name(r.status)},
-                       {"message", r.message},
-                       {"fix", r.fix}});
-        continue;
-      }
-      if (startup && (r.status == doctor::Status::kOk || r.status == doctor::Status::kSkip))
-        continue;
-      std::printf("[%-4s] %s: %s\n", doctor::status_name(r.status), r.check.c_str(),
-                  r.message.c_str());
-      if (!r.fix.empty()) std::printf("       fix: %s\n", r.fix.c_str());
-    }
-    if (json) std::cout << out.dump(2) << "\n";
-    std::fflush(stdout);
-    return failed ? 1 : 0;
-  } catch (const Error& e) {
-    std::fprintf(stderr, "hullpose-doctor: error: %s\n", e.what());
-    return 2;
-  }
+  return hullpose::run_tool("hullpose-doctor", argc, argv, run);
 }
