@@ -3,6 +3,8 @@
 BUILD       ?= build
 BUILD_ASAN  ?= build-asan
 BUILD_FUZZ  ?= build-fuzz
+BUILD_PKG   ?= build-package
+BUILD_ARM64 ?= build-arm64
 JOBS        ?= $(shell nproc)
 CMAKE_FLAGS ?=
 FUZZ_SECONDS ?= 60
@@ -10,7 +12,7 @@ SOAK_MINUTES ?= 10
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz soak format format-check clean
+.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz soak format format-check clean package cross
 
 all: build
 
@@ -55,6 +57,19 @@ fuzz: deps
 soak: build
 	tests/system/soak.sh $(BUILD) $(SOAK_MINUTES) $(BUILD)/soak.json
 
+# The Debian packages per role (cmake/HullposePackaging.cmake) in $(BUILD_PKG)/packages, built for
+# any CPU of this architecture (no -march=native), checked with lintian.
+package: deps
+	$(CMAKE) -S . -B $(BUILD_PKG) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_NATIVE=OFF $(CMAKE_FLAGS)
+	$(CMAKE) --build $(BUILD_PKG) -j $(JOBS) --target $$(sed -n 's/^HULLPOSE_PACKAGED_TARGETS=//p' $(BUILD_PKG)/hullpose-packaging.txt | tr ';' ' ')
+	rm -rf $(BUILD_PKG)/packages && cd $(BUILD_PKG) && cpack -G DEB -B $(CURDIR)/$(BUILD_PKG)/packages && rm -rf packages/_CPack_Packages
+	lintian --fail-on error,warning --suppress-tags-from-file deploy/debian/lintian-overrides.txt $(BUILD_PKG)/packages/*.deb
+
+# The boards' build: arm64 packages from Debian's cross toolchain and an arm64 sysroot, unit tests
+# under qemu-user-static (deploy/cross/build.sh; figures in $(BUILD_ARM64)/figures.txt).
+cross: deps
+	deploy/cross/build.sh $(BUILD_ARM64) $(JOBS)
+
 # The repo's .clang-format over every tracked C++ file: `format` rewrites, `format-check` (CI)
 # fails on the first file that differs.
 FORMAT_FILES = git ls-files '*.cpp' '*.hpp' '*.cu' '*.cuh'
@@ -66,4 +81,4 @@ format-check: deps
 	@$(FORMAT_FILES) | xargs clang-format --dry-run -Werror
 
 clean:
-	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ)
+	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ) $(BUILD_PKG) $(BUILD_ARM64)

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian packages listed in deploy/packages.txt that are not installed yet.
+# Installs the Debian packages listed in deploy/packages.txt (or the list given) that are not installed yet.
 # Idempotent: with everything present it only runs dpkg-query and exits 0.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-mapfile -t wanted < <(grep -v '^\s*#' "$here/packages.txt" | sed '/^\s*$/d')
+list=${1:-$here/packages.txt}  # another list: deploy/cross/packages.txt (make cross)
+mapfile -t wanted < <(grep -v '^\s*#' "$list" | sed '/^\s*$/d')
 
 missing=()
 for pkg in "${wanted[@]}"; do
