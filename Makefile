@@ -9,7 +9,7 @@ FUZZ_SECONDS ?= 60
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz format clean
+.PHONY: all deps configure build test test-asan test-gpu demo bench eval fuzz format clean
 
 all: build
 
@@ -42,6 +42,10 @@ demo: build
 
 bench: build
 	@tools/bench/run-bench.sh $(BUILD)
+
+# Pose accuracy on every shared clip, both pose paths, 64^3 and 128^3 (tools/eval/run-eval.py).
+eval: build
+	@tools/eval/run-eval.py $(BUILD)
 
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE) -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_FUZZ=ON $(CMAKE_FLAGS)

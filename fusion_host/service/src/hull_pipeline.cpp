@@ -3,11 +3,12 @@
 #include <hullpose_msg/skeleton_t.hpp>
 
 #include "hullpose/common/time.hpp"
-#include "hullpose/pose/pose_estimator.hpp"
+#include "hullpose/pose/hull_pose_estimator.hpp"
 
 namespace hullpose::fusion {
 
-HullPipeline::HullPipeline(const Rig& rig, const FusionOptions& options, std::unique_ptr<PoseStage> pose, Counters* counters)
+HullPipeline::HullPipeline(const Rig& rig, const FusionOptions& options,
+                           std::unique_ptr<PoseStage> pose, Counters* counters)
     : rig_(rig), core_(rig, options, counters), pose_(std::move(pose)) {
   masks_.reserve(rig.cameras.size());
   rois_.reserve(rig.cameras.size());
@@ -20,12 +21,12 @@ void HullPipeline::process(const AssembledFrame& frame, PoseEstimate& out) {
   out.fused_utime = realtime_utime();
   if (!pose_) {
     out.valid = false;
-    out.reason = r.valid ? hullpose_msg::skeleton_t::REASON_FIT_FAILED : hullpose_msg::skeleton_t::REASON_EMPTY_HULL;
+    out.reason = r.valid ? hullpose_msg::skeleton_t::REASON_FIT_FAILED
+                         : hullpose_msg::skeleton_t::REASON_EMPTY_HULL;
   } else {
     // As the offline replay does: the pose stage sees every frame (an empty skeleton when the
     // hull failed), so its temporal state and the reused pose match the replay's.
-    pose_->estimate(r.valid ? std::span<const Eigen::Vector3i>(r.skeleton_voxels) : std::span<const Eigen::Vector3i>(),
-                    r.grid, out);
+    pose_->estimate(r, out);
   }
   if (!r.valid && r.failure == FusionFailure::kTooFewViews) {
     out.valid = false;
@@ -37,20 +38,24 @@ namespace {
 
 class PoseEstimatorStage final : public PoseStage {
  public:
-  void estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid, PoseEstimate& out) override {
-    const pose::PoseEstimate& p = estimator_.estimate(skeleton, grid);
+  explicit PoseEstimatorStage(const pose::HullPoseParams& params) : estimator_(params) {}
+  void estimate(const FusionResult& fused, PoseEstimate& out) override {
+    const pose::PoseEstimate& p =
+        fused.valid ? estimator_.estimate(fused.skeleton_voxels, &fused.hull, fused.grid)
+                    : estimator_.estimate({}, nullptr, fused.grid);
     out.valid = p.valid;
     out.reason = p.reason;
     if (!p.has_pose) return;  // nothing to show yet: zeros, confidence 0
     for (size_t j = 0; j < p.joints_mm.size(); ++j) {
-      out.position_mm[j] = {static_cast<float>(p.joints_mm[j].x()), static_cast<float>(p.joints_mm[j].y()),
+      out.position_mm[j] = {static_cast<float>(p.joints_mm[j].x()),
+                            static_cast<float>(p.joints_mm[j].y()),
                             static_cast<float>(p.joints_mm[j].z())};
       out.confidence[j] = p.confidence[j];
     }
   }
 
  private:
-  pose::PoseEstimator estimator_;
+  pose::HullPoseEstimator estimator_;
 };
 
 }  // namespace
@@ -60,7 +65,9 @@ std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const Pipeline
   f.resolution = options.resolution;
   f.tolerance = options.tolerance;
   f.backend = gpu::parse_backend(options.backend);
-  return std::make_unique<HullPipeline>(rig, f, std::make_unique<PoseEstimatorStage>(), nullptr);
+  pose::HullPoseParams p;
+  p.mode = pose::parse_pose_mode(options.pose);
+  return std::make_unique<HullPipeline>(rig, f, std::make_unique<PoseEstimatorStage>(p), nullptr);
 }
 
 }  // namespace hullpose::fusion

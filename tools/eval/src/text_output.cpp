@@ -53,6 +53,9 @@ void write_json(std::ostream& out, const EvalResult& r) {
     o.integer("scored_frames", r.scored_frames);
     o.integer("invalid_frames", r.invalid_frames);
     o.integer("missing_frames", r.missing_frames);
+    o.integer("out_of_volume_frames", r.out_of_volume_frames);
+    o.integer("out_of_volume_invalid", r.out_of_volume_invalid);
+    o.number("out_of_volume_mpjpe_mm", r.out_of_volume_mpjpe_mm);
     {
       JsonObject reasons(o.key("invalid_reasons"));
       for (const auto& [code, count] : r.invalid_reasons) reasons.integer(reason_name(code), count);
@@ -120,13 +123,17 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   out << "hullpose-eval  " << source.estimate << "  vs  " << source.dataset;
   if (!source.motion.empty()) out << "  (" << source.motion << ")";
   out << "\n\nFrames\n";
-  row("ground-truth frames", std::to_string(r.frames));
+  row("ground-truth frames (in the volume)", std::to_string(r.frames));
   row("scored (estimate valid)", std::to_string(r.scored_frames) + "   (" + pc(r.valid_pct) + ")");
   std::string invalid = std::to_string(r.invalid_frames);
   for (const auto& [code, count] : r.invalid_reasons)
     invalid += "   " + reason_name(code) + "=" + std::to_string(count);
   row("invalid (estimate valid=0)", invalid);
   row("missing from the estimate file", std::to_string(r.missing_frames));
+  row("true body outside the volume",
+      std::to_string(r.out_of_volume_frames) + "   (flagged invalid " +
+          std::to_string(r.out_of_volume_invalid) + ", scored at " + mm(r.out_of_volume_mpjpe_mm) +
+          "; not counted above or below)");
 
   out << "\nJoint error over scored frames\n";
   row("all joints (MPJPE)", stats(r.all_joints));

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "hullpose/fusion/fusion_core.hpp"
-#include "hullpose/pose/pose_estimator.hpp"
+#include "hullpose/pose/hull_pose_estimator.hpp"
 
 namespace hullpose::replay {
 
@@ -16,7 +16,7 @@ struct ReplayOptions {
   std::filesystem::path timings;  // per-frame stage timings CSV; default: <out>.timings.csv
   int max_frames = -1;            // all frames of meta.json when negative
   fusion::FusionOptions fusion;
-  pose::PoseParams pose;
+  pose::HullPoseParams pose;
 };
 
 struct ReplaySummary {

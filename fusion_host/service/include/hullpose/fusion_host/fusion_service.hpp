@@ -5,14 +5,13 @@
 // trigger -> capture -> node done -> received -> fused -> published, and STATUS once a second.
 // Single-threaded: one loop owns the LCM handle, the assembler and the pipeline.
 #include <functional>
+#include <hullpose_msg/node_status_t.hpp>
+#include <hullpose_msg/skeleton_t.hpp>
+#include <hullpose_msg/trigger_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <hullpose_msg/node_status_t.hpp>
-#include <hullpose_msg/skeleton_t.hpp>
-#include <hullpose_msg/trigger_t.hpp>
 
 #include "hullpose/common/counters.hpp"
 #include "hullpose/fusion_host/frame_assembler.hpp"
@@ -31,7 +30,8 @@ struct ServiceConfig {
 
 class FusionService {
  public:
-  FusionService(lcm::LCM& bus, const Rig& rig, FramePipeline& pipeline, const ServiceConfig& config);
+  FusionService(lcm::LCM& bus, const Rig& rig, FramePipeline& pipeline,
+                const ServiceConfig& config);
   ~FusionService();
   FusionService(const FusionService&) = delete;
   FusionService& operator=(const FusionService&) = delete;
@@ -75,17 +75,21 @@ class FusionService {
 
 // Options of the pipeline on a fusion host's command line.
 struct PipelineOptions {
-  int resolution = 128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
-  int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
+  int resolution =
+      128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
+  int tolerance = 0;             // --tolerance K: a voxel may be missed by K present cameras
   std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
+  std::string pose = "track";    // --pose bottom-up|track (fusion_host/pose checks it)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
-// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the pipeline with
-// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
-// Returns the process exit code; errors print "<tool>: error: ..." and return 2.
-int service_main(int argc, char** argv, const char* tool,
-                 const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline);
+// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the
+// pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration. Returns
+// the process exit code; errors print "<tool>: error: ..." and return 2.
+int service_main(
+    int argc, char** argv, const char* tool,
+    const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>&
+        make_pipeline);
 
 }  // namespace hullpose::fusion

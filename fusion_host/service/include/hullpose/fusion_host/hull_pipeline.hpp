@@ -19,15 +19,17 @@ namespace hullpose::fusion {
 class PoseStage {
  public:
   virtual ~PoseStage() = default;
-  // Curve-skeleton voxels of one frame in, the pose out (valid, reason, joints, confidence).
-  virtual void estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid, PoseEstimate& out) = 0;
+  // One frame's fusion result in (hull and curve skeleton; invalid when the hull failed), the
+  // pose out (valid, reason, joints, confidence).
+  virtual void estimate(const FusionResult& fused, PoseEstimate& out) = 0;
 };
 
 class HullPipeline final : public FramePipeline {
  public:
   // pose == nullptr: hull and curve skeleton only; every frame that carves is published with
   // REASON_FIT_FAILED and its real latencies (for measuring the fusion stages alone).
-  HullPipeline(const Rig& rig, const FusionOptions& options, std::unique_ptr<PoseStage> pose, Counters* counters);
+  HullPipeline(const Rig& rig, const FusionOptions& options, std::unique_ptr<PoseStage> pose,
+               Counters* counters);
   void process(const AssembledFrame& frame, PoseEstimate& out) override;
   const FusionResult& last_fusion() const { return *last_; }
 
