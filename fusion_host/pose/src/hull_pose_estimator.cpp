@@ -1,8 +1,6 @@
 #include "hullpose/pose/hull_pose_estimator.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <hullpose_msg/skeleton_t.hpp>
 
 #include "hullpose/common/check.hpp"
@@ -19,25 +17,14 @@ PoseMode parse_pose_mode(const std::string& value, const char* what) {
   HULLPOSE_THROW(what << ": expected bottom-up or track, got '" << value << "'");
 }
 
-static HullPoseParams tweak(HullPoseParams p) {  // EXPERIMENT ONLY
-  if (const char* v = std::getenv("T_DAMP")) p.track.velocity_damping = std::atof(v);
-  if (const char* v = std::getenv("T_DETW")) p.track.detect_weight = std::atof(v);
-  if (const char* v = std::getenv("T_ITER")) p.track.iterations = std::atoi(v);
-  if (const char* v = std::getenv("T_PTS")) p.track.max_points = std::atoi(v);
-  if (const char* v = std::getenv("T_VALID")) p.arbiter.valid_fraction = std::atof(v);
-  if (const char* v = std::getenv("T_BETA")) p.filter.beta = std::atof(v);
-  if (const char* v = std::getenv("T_MINCUT")) p.filter.min_cutoff_hz = std::atof(v);
-  return p;
-}
-
-HullPoseEstimator::HullPoseEstimator(HullPoseParams params_in)
-    : params_(tweak(params_in)),
-      bottom_up_(params_.bottom_up),
-      surface_(params_.track.max_points),
-      tracker_(params_.track),
-      candidate_(params_.track),
-      body_(params_.body),
-      filter_(params_.filter) {}
+HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
+    : params_(params),
+      bottom_up_(params.bottom_up),
+      surface_(params.track.max_points),
+      tracker_(params.track),
+      candidate_(params.track),
+      body_(params.body),
+      filter_(params.filter) {}
 
 double HullPoseEstimator::running_score(double s) {
   score_ring_[score_next_] = s;
@@ -104,12 +91,6 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   if (good || (reacquired_ && det.valid)) median_score_ = running_score(score_);
   if (good && score_ >= a.model_fraction * median_score_) body_.add(r->length_ratio, r->radius_mm);
 
-  if (std::getenv("POSE_DEBUG")) {
-    std::fprintf(stderr,
-                 "DBG score %.3f med %.3f expl %.3f in %.3f good %d reacq %d det %d stat %.0f\n",
-                 score_, median_score_, r->score.explained, r->score.inside, good, reacquired_,
-                 det.valid, body_.model().stature_mm());
-  }
   out_.joints_mm = r->joints;
   if (reacquired_) filter_.reset();
   filter_.apply(out_.joints_mm, a.frame_s);

@@ -8,7 +8,6 @@
 namespace hullpose::pose {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Bone sampling points for the inside test: the axis at these fractions.
@@ -110,32 +109,42 @@ void HullTracker::start(const JointPositions& pose) {
 void HullTracker::load_capsules(const BodyModel& model, const JointPositions& pose,
                                 double voxel_mm) const {
   for (int b = 0; b < kNumBones; ++b) {
-    const Eigen::Vector3d& pa = pose[index(kBones[b].parent)];
-    const Eigen::Vector3f a = pa.cast<float>();
-    const Eigen::Vector3f c =
-        capsule_end(b, pa, pose[index(kBones[b].child)], model.radius_mm[b]).cast<float>();
-    const float r = static_cast<float>(std::max(0.0, model.radius_mm[b] - 0.5 * voxel_mm));
-    cap_a_[b] = a;
-    cap_ab_[b] = c - a;
-    cap_len2_[b] = cap_ab_[b].squaredNorm();
-    cap_radius_[b] = r;
+    const Eigen::Vector3d& a = pose[index(kBones[b].parent)];
+    const Eigen::Vector3d ab =
+        capsule_end(b, a, pose[index(kBones[b].child)], model.radius_mm[b]) - a;
+    cap_.ax[b] = static_cast<float>(a.x());
+    cap_.ay[b] = static_cast<float>(a.y());
+    cap_.az[b] = static_cast<float>(a.z());
+    cap_.bx[b] = static_cast<float>(ab.x());
+    cap_.by[b] = static_cast<float>(ab.y());
+    cap_.bz[b] = static_cast<float>(ab.z());
+    cap_.inv_len2[b] = ab.squaredNorm() > 1e-9 ? static_cast<float>(1 / ab.squaredNorm()) : 0.0f;
+    cap_.radius[b] = static_cast<float>(std::max(0.0, model.radius_mm[b] - 0.5 * voxel_mm));
   }
 }
 
 HullTracker::Hit HullTracker::nearest(const Eigen::Vector3f& p) const {
-  Hit hit;
-  float best = kInf;
+  // Signed distance to every capsule's surface (branch-free, vectorised), then the least.
+  alignas(32) std::array<float, kNumBones> dist, along;
+  const float px = p.x(), py = p.y(), pz = p.z();
   for (int b = 0; b < kNumBones; ++b) {
-    const Eigen::Vector3f ap = p - cap_a_[b];
-    const float t =
-        cap_len2_[b] > 0 ? std::clamp(ap.dot(cap_ab_[b]) / cap_len2_[b], 0.0f, 1.0f) : 0.0f;
-    const Eigen::Vector3f q = cap_a_[b] + t * cap_ab_[b];
-    const float dist = (p - q).norm() - cap_radius_[b];
-    if (dist < best) {
-      best = dist;
-      hit = {b, t, dist, q};
-    }
+    const float dx = px - cap_.ax[b], dy = py - cap_.ay[b], dz = pz - cap_.az[b];
+    float t = (dx * cap_.bx[b] + dy * cap_.by[b] + dz * cap_.bz[b]) * cap_.inv_len2[b];
+    t = std::min(1.0f, std::max(0.0f, t));
+    const float ex = dx - t * cap_.bx[b], ey = dy - t * cap_.by[b], ez = dz - t * cap_.bz[b];
+    dist[b] = std::sqrt(ex * ex + ey * ey + ez * ez) - cap_.radius[b];
+    along[b] = t;
   }
+  int best = 0;
+  for (int b = 1; b < kNumBones; ++b)
+    if (dist[b] < dist[best]) best = b;
+  Hit hit;
+  hit.bone = best;
+  hit.t = along[best];
+  hit.distance = dist[best];
+  hit.axis_point = Eigen::Vector3f(cap_.ax[best] + along[best] * cap_.bx[best],
+                                   cap_.ay[best] + along[best] * cap_.by[best],
+                                   cap_.az[best] + along[best] * cap_.bz[best]);
   return hit;
 }
 
@@ -152,7 +161,12 @@ void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
     support_.fill(0);
     for (auto& p : pull_) p.setZero();
     bone_points_.fill(0);
-    for (const Eigen::Vector3f& p : points) {
+    // Coarse to fine: the first iterations take every coarse_stride-th point (the large moves
+    // need few), the last fine_iterations all of them.
+    const size_t stride =
+        it + params_.fine_iterations < params_.iterations ? params_.coarse_stride : 1;
+    for (size_t k = 0; k < points.size(); k += stride) {
+      const Eigen::Vector3f& p = points[k];
       const Hit h = nearest(p);
       if (h.bone < 0 || std::abs(h.distance) > gate) continue;
       const Eigen::Vector3d radial = (p - h.axis_point).cast<double>();
@@ -183,7 +197,11 @@ void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
           shake_.add_point(j, d, params_.detect_weight);
       }
     }
+    const JointPositions before = x;
     shake_.solve(x, params_.shake);
+    double moved = 0;
+    for (int j = 0; j < kNumJoints; ++j) moved = std::max(moved, (x[j] - before[j]).norm());
+    if (stride == 1 && moved < params_.converged_voxels * surface.voxel_mm()) break;
   }
 }
 

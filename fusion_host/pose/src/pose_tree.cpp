@@ -56,8 +56,7 @@ void PoseTreeBuilder::invalidate(const char* why) {
   tree_.why = why;
 }
 
-void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels,
-                                const VoxelGridSpec& grid) {
+void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid) {
   if (!(grid == grid_) || lookup_.size() != grid.size()) {
     grid_ = grid;
     lookup_.assign(grid.size(), -1);
@@ -160,8 +159,7 @@ void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels,
     }
   }
   for (int32_t i = 0; i < n_in; ++i)
-    if (grid.contains(voxels[i]))
-      lookup_[grid.index(voxels[i].x(), voxels[i].y(), voxels[i].z())] = -1;
+    if (grid.contains(voxels[i])) lookup_[grid.index(voxels[i].x(), voxels[i].y(), voxels[i].z())] = -1;
 
   // Undirected adjacency (CSR) of the tree.
   const int32_t n = static_cast<int32_t>(tree_.parent.size());
@@ -266,9 +264,8 @@ bool PoseTreeBuilder::prune(double longest) {
     // branch shrinks to ~0.05 of the longest path when a raised arm's junction moves up the
     // neck); whether a short one is a real limb is the ranking's call, not the pruning's.
     if (branches_.size() <= kNumExtremities) break;
-    const auto shortest =
-        std::min_element(branches_.begin(), branches_.end(),
-                         [](const Branch& a, const Branch& b) { return a.length < b.length; });
+    const auto shortest = std::min_element(branches_.begin(), branches_.end(),
+                                           [](const Branch& a, const Branch& b) { return a.length < b.length; });
     if (shortest->length >= threshold && branches_.size() <= kMaxEnds) break;
     remove_branch(shortest->end, shortest->junction);
   }
@@ -303,13 +300,12 @@ int32_t PoseTreeBuilder::meeting_node(int32_t a, int32_t b) const {
 
 // Eq. 1-4 for one origin candidate and one assignment of endpoints to classes; dist_ must hold
 // the distances from `candidate` over the pruned tree.
-PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(
-    int32_t candidate, const std::array<int32_t, kNumExtremities>& ends, double longest) const {
-  const double unit =
-      longest / ratio::kLongestPath;  // one stature, by the paper-5 reference length
+PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
+                                                        const std::array<int32_t, kNumExtremities>& ends,
+                                                        double longest) const {
+  const double unit = longest / ratio::kLongestPath;  // one stature, by the paper-5 reference length
   const double ideal_neck = ratio::kNeckChain * unit, ideal_arm = ratio::kArmChain * unit;
-  const double ideal_torso = ratio::kTorso * unit,
-               ideal_leg = (ratio::kTorso + ratio::kLegChain) * unit;
+  const double ideal_torso = ratio::kTorso * unit, ideal_leg = (ratio::kTorso + ratio::kLegChain) * unit;
   const double offset_scale = params_.branch_offset_ratio * longest;
   const double merge_mm = params_.junction_merge_voxels * grid_.voxel_mm;
 
@@ -320,16 +316,15 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(
   };
   // The neck continues the torso: the head leaves the origin within ~60 degrees of the torso's
   // direction (pelvis -> origin; even a bowed head's top stays inside 90), while the spurs CK3
-  // grows off a thick chest or back leave it sideways, forwards or downwards. Length alone cannot
-  // tell them apart: a spur is as long as the chest is deep, about the neck's length.
+  // grows off a thick chest or back leave it sideways, forwards or downwards. Length alone cannot tell
+  // them apart: a spur is as long as the chest is deep, about the neck's length.
   const int32_t pelvis = meeting_node(ends[kFoot1], ends[kFoot2]);
   double head_direction = 1;
   if (pelvis >= 0 && pelvis != candidate) {
     const Eigen::Vector3d up = tree_.position[candidate] - tree_.position[pelvis];
     const Eigen::Vector3d neck = tree_.position[ends[kHeadSlot]] - tree_.position[candidate];
     const double norms = up.norm() * neck.norm();
-    if (norms > 0)
-      head_direction = std::clamp(2 * up.dot(neck) / norms, 0.0, 1.0);  // 1 up to 60 deg, 0 at 90
+    if (norms > 0) head_direction = std::clamp(2 * up.dot(neck) / norms, 0.0, 1.0);  // 1 up to 60 deg, 0 at 90
   }
   Ranked r;
   r.origin = candidate;
@@ -337,8 +332,7 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(
   r.upright = pelvis >= 0 && tree_.position[candidate].z() > tree_.position[pelvis].z();
   for (int s = 0; s < kNumExtremities; ++s) {
     const double dr = dist_[ends[s]];
-    const double offset =
-        std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
+    const double offset = std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
     double f;
     if (s == kHeadSlot)
       f = closeness(ideal_neck, dr) / (1 + offset / offset_scale) * head_direction;
@@ -352,9 +346,7 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(
   auto dropped_at = [&](int32_t junction) {
     int n = 0;
     for (size_t k = 0; k < ends_.size(); ++k)
-      if (end_junction_[k] == junction &&
-          std::find(ends.begin(), ends.end(), ends_[k]) == ends.end())
-        ++n;
+      if (end_junction_[k] == junction && std::find(ends.begin(), ends.end(), ends_[k]) == ends.end()) ++n;
     return n;
   };
   int degree = degree_[candidate] - dropped_at(candidate);
@@ -381,23 +373,20 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
       for (uint32_t k = 0; k < count; ++k)
         if (subset & (1u << k)) order[n++] = ends_[k];
       // Nearest last: feet are the two farthest, then the hands, the head nearest (algorithm 3).
-      std::sort(order.begin(), order.end(),
-                [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
-      const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0],
-                                                         order[1]};
+      std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
+      const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
       const Ranked r = rank_candidate(c, ends, longest);
       if (r.rank > best.rank) best = r;
       if (r.upright && r.rank > best_upright.rank) best_upright = r;
     }
   }
-  return !best.upright && best_upright.origin >= 0 &&
-                 best_upright.quality >= best.quality - params_.upright_margin
+  return !best.upright && best_upright.origin >= 0 && best_upright.quality >= best.quality - params_.upright_margin
              ? best_upright
              : best;
 }
 
-PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(
-    const std::array<int32_t, kNumExtremities>& ends, double longest) {
+PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<int32_t, kNumExtremities>& ends,
+                                                             double longest) {
   Ranked best;
   for (int32_t c : junctions_) {
     distances_from(c, true);
@@ -407,16 +396,14 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(
   return best;
 }
 
-std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(
-    const TemporalHint& hint) const {
+std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const TemporalHint& hint) const {
   // The assignment of endpoints to the previous extremities with the least summed displacement:
   // dynamic programming over the subsets of endpoints used so far (5 x 2^kMaxEnds states).
   const int count = static_cast<int>(ends_.size());
   const uint32_t full = 1u << count;
   std::array<std::array<double, kNumExtremities>, kMaxEnds> cost{};
   for (int k = 0; k < count; ++k)
-    for (int s = 0; s < kNumExtremities; ++s)
-      cost[k][s] = (tree_.position[ends_[k]] - hint.extremity_mm[s]).norm();
+    for (int s = 0; s < kNumExtremities; ++s) cost[k][s] = (tree_.position[ends_[k]] - hint.extremity_mm[s]).norm();
   // best_[mask]: least cost of giving slots 0..popcount(mask)-1 the endpoints in mask.
   std::fill(assign_cost_.begin(), assign_cost_.begin() + full, kInf);
   assign_cost_[0] = 0;
@@ -435,9 +422,7 @@ std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(
   }
   uint32_t best = 0;
   for (uint32_t mask = 0; mask < full; ++mask)
-    if (std::popcount(mask) == kNumExtremities &&
-        (best == 0 || assign_cost_[mask] < assign_cost_[best]))
-      best = mask;
+    if (std::popcount(mask) == kNumExtremities && (best == 0 || assign_cost_[mask] < assign_cost_[best])) best = mask;
   std::array<int32_t, kNumExtremities> out;
   for (int s = kNumExtremities; s-- > 0;) {
     const int k = assign_from_[best];
@@ -466,8 +451,8 @@ double PoseTreeBuilder::path_length(const std::vector<int32_t>& path) const {
 // the extremity (path front) or from the junction (path back). The result points towards the
 // back of the path (up the tree) when measured from the extremity, towards the front (away from
 // the torso) when measured from the junction. Zero when fewer than two nodes qualify.
-Eigen::Vector3d PoseTreeBuilder::path_direction(const std::vector<int32_t>& path, double from_mm,
-                                                double to_mm, bool from_junction) const {
+Eigen::Vector3d PoseTreeBuilder::path_direction(const std::vector<int32_t>& path, double from_mm, double to_mm,
+                                                bool from_junction) const {
   MomentAccumulator m;
   double arc = 0;
   const int32_t n = static_cast<int32_t>(path.size());
@@ -509,8 +494,7 @@ void PoseTreeBuilder::label_parts() {
   for (size_t i = 1; i < n; ++i)
     if (tree_.part[i] == Part::Unlabelled) tree_.part[i] = tree_.part[tree_.parent[i]];
   for (size_t i = n; i-- > 1;)
-    if (tree_.part[tree_.parent[i]] == Part::Unlabelled)
-      tree_.part[tree_.parent[i]] = tree_.part[i];
+    if (tree_.part[tree_.parent[i]] == Part::Unlabelled) tree_.part[tree_.parent[i]] = tree_.part[i];
   for (size_t i = 1; i < n; ++i)
     if (tree_.part[i] == Part::Unlabelled) tree_.part[i] = tree_.part[tree_.parent[i]];
 }
@@ -520,10 +504,8 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
   const Eigen::Vector3d up = [&] {
     MomentAccumulator m;
     for (int32_t i : tree_.torso_path) m.add(tree_.position[i]);
-    Eigen::Vector3d d =
-        m.count() >= 2
-            ? fit_line(m).direction
-            : Eigen::Vector3d(tree_.position[tree_.origin] - tree_.position[tree_.pelvis]);
+    Eigen::Vector3d d = m.count() >= 2 ? fit_line(m).direction
+                                        : Eigen::Vector3d(tree_.position[tree_.origin] - tree_.position[tree_.pelvis]);
     if (d.dot(tree_.position[tree_.origin] - tree_.position[tree_.pelvis]) < 0) d = -d;
     return d.normalized();
   }();
@@ -538,14 +520,11 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
   for (int s : {kFoot1, kFoot2}) {
     const Eigen::Vector3d v_foot = path_direction(paths[s], 0, foot, false);
     const Eigen::Vector3d v_lleg = path_direction(paths[s], foot, foot + lleg, false);
-    const Eigen::Vector3d v_thigh =
-        path_direction(paths[s], foot + lleg, foot + lleg + thigh, false);
+    const Eigen::Vector3d v_thigh = path_direction(paths[s], foot + lleg, foot + lleg + thigh, false);
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    if (use_ankles && !v_foot.isZero() && !v_lleg.isZero() &&
-        angle_between(v_foot, v_lleg) > params_.bend_min_deg * kDeg)
+    if (use_ankles && !v_foot.isZero() && !v_lleg.isZero() && angle_between(v_foot, v_lleg) > params_.bend_min_deg * kDeg)
       normal += v_foot.cross(v_lleg).normalized();
-    if (!v_lleg.isZero() && !v_thigh.isZero() &&
-        angle_between(v_lleg, v_thigh) > params_.bend_min_deg * kDeg)
+    if (!v_lleg.isZero() && !v_thigh.isZero() && angle_between(v_lleg, v_thigh) > params_.bend_min_deg * kDeg)
       normal += v_lleg.cross(-v_thigh).normalized();
     if (normal.norm() > 1e-6) forward += normal.normalized().cross(up).normalized();
   }
@@ -561,8 +540,7 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
   tree_.left = up.cross(tree_.forward);
 
   // Which of two limbs is left; too small a margin defers to the previous frame's positions.
-  auto settle = [&](int a, int b, bool first_left, bool weak, Extremity hint_left,
-                    Extremity hint_right) {
+  auto settle = [&](int a, int b, bool first_left, bool weak, Extremity hint_left, Extremity hint_right) {
     if (weak && hint.valid) {
       const Eigen::Vector3d& p1 = tree_.position[paths[a].front()];
       const Eigen::Vector3d& p2 = tree_.position[paths[b].front()];
@@ -596,8 +574,7 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
       margin = std::abs(a1 - a2);
     }
     tree_.lr_margin_deg = margin / kDeg;
-    settle(kHand1, kHand2, first_left, margin < params_.lr_min_margin_deg * kDeg, Extremity::LHand,
-           Extremity::RHand);
+    settle(kHand1, kHand2, first_left, margin < params_.lr_min_margin_deg * kDeg, Extremity::LHand, Extremity::RHand);
   }
   // Legs: where the two thighs sit along the left axis, relative to the pelvis. Algorithm 6's
   // hip-line angles are unreliable here: the leg branches leave the crotch nearly parallel
@@ -608,8 +585,7 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
       MomentAccumulator m;
       double arc = 0;
       for (size_t k = path.size(); k-- > 0;) {
-        if (k + 1 < path.size())
-          arc += (tree_.position[path[k]] - tree_.position[path[k + 1]]).norm();
+        if (k + 1 < path.size()) arc += (tree_.position[path[k]] - tree_.position[path[k + 1]]).norm();
         if (arc > set_mm) break;
         m.add(tree_.position[path[k]]);
       }
@@ -617,15 +593,15 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
     };
     const double d1 = lateral(paths[kFoot1]), d2 = lateral(paths[kFoot2]);
     tree_.leg_margin_mm = std::abs(d1 - d2);
-    settle(kFoot1, kFoot2, d1 > d2, tree_.leg_margin_mm < params_.lr_min_margin_mm,
-           Extremity::LFoot, Extremity::RFoot);
+    settle(kFoot1, kFoot2, d1 > d2, tree_.leg_margin_mm < params_.lr_min_margin_mm, Extremity::LFoot,
+           Extremity::RFoot);
   }
   for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].front();
   return true;
 }
 
-const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxels,
-                                           const VoxelGridSpec& grid, const TemporalHint& hint) {
+const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
+                                           const TemporalHint& hint) {
   tree_.valid = false;
   tree_.why = "";
   tree_.origin = tree_.pelvis = -1;
@@ -645,13 +621,10 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   {
     const Eigen::Vector3d low = grid.origin_mm.array() + (params_.edge_voxels + 1) * grid.voxel_mm;
     const Eigen::Vector3d high =
-        grid.origin_mm.array() +
-        (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
+        grid.origin_mm.array() + (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
     for (const Eigen::Vector3d& p : tree_.position)
-      if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() ||
-          p.z() > high.z()) {
-        invalidate(
-            "the skeleton reaches the side of the capture volume: the person is partly outside");
+      if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() || p.z() > high.z()) {
+        invalidate("the skeleton reaches the side of the capture volume: the person is partly outside");
         return tree_;
       }
   }
@@ -666,8 +639,7 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   if (hint.valid) {
     const auto temporal = temporal_assignment(hint);
     auto same_set = [&](int a, int b, const std::array<int32_t, kNumExtremities>& e) {
-      return (e[a] == best.ends[a] && e[b] == best.ends[b]) ||
-             (e[a] == best.ends[b] && e[b] == best.ends[a]);
+      return (e[a] == best.ends[a] && e[b] == best.ends[b]) || (e[a] == best.ends[b] && e[b] == best.ends[a]);
     };
     if (temporal[kHeadSlot] != best.ends[kHeadSlot] || !same_set(kHand1, kHand2, temporal) ||
         !same_set(kFoot1, kFoot2, temporal)) {
@@ -725,8 +697,7 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
     ok = false;
   }
   if (!ok) {
-    for (int s = 0; s < kNumExtremities; ++s)
-      tree_.extremity[s] = paths[s].empty() ? -1 : paths[s].front();
+    for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].empty() ? -1 : paths[s].front();
   }
   label_parts();
   tree_.valid = ok;

@@ -26,10 +26,7 @@ struct Options {
 std::optional<Options> parse(int argc, const char* const* argv) {
   Options o;
   cli::CommandLine cl(kUsage);
-  cl.option("--gt", o.gt)
-      .option("--est", o.est)
-      .option("--report", o.report)
-      .flag("--json", o.json);
+  cl.option("--gt", o.gt).option("--est", o.est).option("--report", o.report).flag("--json", o.json);
   if (!cl.parse(argc, argv)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(!o.gt.empty(), "--gt DIR is required");
   HULLPOSE_THROW_UNLESS(!o.est.empty(), "--est FILE is required");

@@ -34,7 +34,7 @@ struct ArbiterParams {
   // replacement when the tracked score falls below check_fraction of it (or every
   // check_every frames, to catch a wrong pose that still scores well, e.g. limbs swapped).
   double valid_fraction = 0.85;
-  double check_fraction = 0.95;
+  double check_fraction = 0.9;
   int check_every = 15;  // 0.5 s at 30 fps
   // The bottom-up candidate replaces the tracked pose when it scores this much higher (a
   // hysteresis: two equally good poses do not alternate).

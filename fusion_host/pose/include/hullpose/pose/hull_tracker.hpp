@@ -52,7 +52,12 @@ struct TrackParams {
   // and 128^3 (a forearm's surface is ~0.3 % of the body's... ~30 points) and keep one ICP
   // iteration near 50 us.
   int max_points = 1000;
+  // ICP iterations at most; it stops early once no joint moves more than converged_voxels (a
+  // tenth of a voxel: below what the hull can show).
   int iterations = 6;
+  double converged_voxels = 0.1;
+  int fine_iterations = 2;
+  size_t coarse_stride = 3;
   // Robust weight 1 / (1 + (r / sigma)^2) of a point at distance r from its capsule's surface;
   // sigma = sigma_voxels voxels + sigma_mm (the hull's quantisation and its ghost volume).
   double sigma_voxels = 1.5;
@@ -67,9 +72,11 @@ struct TrackParams {
   // A bottom-up extremity agrees with the tracked one within this (statures) and then pulls it.
   double detect_agree_ratio = 0.08;
   double detect_weight = 0.5;
-  // Constant-velocity prediction, damped (a velocity that reverses is overshot otherwise) and
-  // capped (statures per frame: ~5 m/s at 30 fps for a 1.75 m subject).
-  double velocity_damping = 0.7;
+  // Constant-velocity prediction, damped: the pose's change from the frame before includes the
+  // fit's corrections, not only motion, and an undamped velocity overshoots every correction and
+  // every reversal (measured on 01_01, 07_01, 60_04 and 131_02 at 128^3: 0 and 0.7 each won on
+  // two of the four, by 2-7 mm; half is between).
+  double velocity_damping = 0.5;
   double max_step_ratio = 0.1;
   // A point is "explained" by the model within this many voxels of a capsule surface (plus the
   // same mm allowance as sigma); scoring. Half a voxel is the hull's quantisation.
@@ -136,9 +143,12 @@ class HullTracker {
   JointPositions previous_{}, before_previous_{};
   bool has_velocity_ = false;
   TrackResult result_;
-  // Capsules of the current pose (structure of arrays for the per-point loop).
-  mutable std::array<Eigen::Vector3f, kNumBones> cap_a_{}, cap_ab_{};
-  mutable std::array<float, kNumBones> cap_len2_{}, cap_radius_{};
+  // Capsules of the current pose, structure of arrays so the per-point loop over the 24 bones
+  // vectorises (it is most of the stage's time: points x bones x iterations).
+  struct Capsules {
+    alignas(32) std::array<float, kNumBones> ax, ay, az, bx, by, bz, inv_len2, radius;
+  };
+  mutable Capsules cap_{};
   std::array<double, kNumJoints> support_{};
   std::array<Eigen::Vector3d, kNumJoints> pull_{};
   std::array<int, kNumBones> bone_points_{};

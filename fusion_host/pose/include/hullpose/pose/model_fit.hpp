@@ -22,10 +22,10 @@ namespace hullpose::pose {
 using JointPositions = std::array<Eigen::Vector3d, kNumJoints>;
 
 struct ShakeParams {
-  int max_iterations = 60;  // outer iterations (pseudo-constraint step + bone sweeps)
+  int max_iterations = 60;        // outer iterations (pseudo-constraint step + bone sweeps)
   int sweeps_per_iteration = 3;
-  double target_gain = 1.0;    // fraction of the distance to its targets a joint moves per step
-  double tolerance_mm = 0.05;  // stop when an iteration moves no joint further than this
+  double target_gain = 1.0;       // fraction of the distance to its targets a joint moves per step
+  double tolerance_mm = 0.05;     // stop when an iteration moves no joint further than this
   double bone_tolerance_mm = 0.01;  // |length - l| every bone must meet when solve() returns
   int max_bone_sweeps = 400;
 };
@@ -55,8 +55,7 @@ class Shake {
     bool is_point = false;
     double weight = 1;
   };
-  double sweep_bones(JointPositions& joints,
-                     const std::array<Eigen::Vector3d, kNumBones>& reference) const;
+  double sweep_bones(JointPositions& joints, const std::array<Eigen::Vector3d, kNumBones>& reference) const;
 
   std::array<double, kNumBones> length_{};
   std::array<double, kNumJoints> inv_mass_{};
@@ -103,14 +102,13 @@ class ModelFitter {
 
  private:
   // One chain of joints along a tree path, extremity first.
-  void fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path,
-                 std::span<const Joint> joints, double end_offset_mm, bool point_at_tip);
-  double chord_sum(const LabelledTree& tree, const std::vector<int32_t>& path,
-                   std::span<const double> groups_mm, double start_mm) const;
-  Eigen::Vector3d at_arc(const LabelledTree& tree, const std::vector<int32_t>& path,
-                         double arc_mm) const;
-  bool group_line(const LabelledTree& tree, const std::vector<int32_t>& path, double from_mm,
-                  double to_mm, Line& line) const;
+  void fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path, std::span<const Joint> joints,
+                 double end_offset_mm, bool point_at_tip);
+  double chord_sum(const LabelledTree& tree, const std::vector<int32_t>& path, std::span<const double> groups_mm,
+                   double start_mm) const;
+  Eigen::Vector3d at_arc(const LabelledTree& tree, const std::vector<int32_t>& path, double arc_mm) const;
+  bool group_line(const LabelledTree& tree, const std::vector<int32_t>& path, double from_mm, double to_mm,
+                  Line& line) const;
   void compute_arcs(const LabelledTree& tree, const std::vector<int32_t>& path) const;
 
   FitParams params_;

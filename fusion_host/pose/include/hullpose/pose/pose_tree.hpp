@@ -53,8 +53,8 @@ struct TreeParams {
   double min_factor = 0.2;
   // Left/right decisions with less angular margin than this defer to temporal correspondence
   // when a previous valid frame exists.
-  double lr_min_margin_deg = 8;  // arms: angular margin of algorithm 6
-  double lr_min_margin_mm = 30;  // legs: lateral separation of the thighs
+  double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
+  double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
   // An upside-down labelling (origin below the pelvis) wins only if it ranks this much better
   // than the best upright one: people stand far more often than they stand on their hands, and
   // on a skeleton whose arms hang beside the legs the two readings rank alike.
@@ -83,8 +83,8 @@ struct LabelledTree {
   std::vector<int32_t> parent;            // -1 at the root
   std::vector<Part> part;
 
-  int32_t origin = -1;                               // arms, neck and torso meet here
-  int32_t pelvis = -1;                               // legs meet the torso here
+  int32_t origin = -1;  // arms, neck and torso meet here
+  int32_t pelvis = -1;  // legs meet the torso here
   std::array<int32_t, kNumExtremities> extremity{};  // node ids in Extremity order
   // Node paths from each extremity to its junction (origin for head and hands, pelvis for feet),
   // extremity first, junction last; torso path from origin to pelvis.
@@ -96,10 +96,10 @@ struct LabelledTree {
   Eigen::Vector3d left = -Eigen::Vector3d::UnitX();    // up x forward
   double voxel_mm = 0;
   double longest_path_mm = 0;
-  double quality = 0;                                // geometric mean of rank factors, 0..1
-  std::array<double, kNumExtremities> limb_score{};  // rank factor per extremity, 0..1
-  double lr_margin_deg = 0;                          // arms: algorithm 6's angular margin
-  double leg_margin_mm = 0;                          // legs: lateral separation of the thighs
+  double quality = 0;                                 // geometric mean of rank factors, 0..1
+  std::array<double, kNumExtremities> limb_score{};   // rank factor per extremity, 0..1
+  double lr_margin_deg = 0;  // arms: algorithm 6's angular margin
+  double leg_margin_mm = 0;  // legs: lateral separation of the thighs
   bool used_temporal_labels = false;
   bool forward_from_previous = false;
 };
