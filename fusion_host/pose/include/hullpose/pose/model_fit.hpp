@@ -27,6 +27,9 @@ struct ShakeParams {
   double target_gain = 1.0;       // fraction of the distance to its targets a joint moves per step
   double tolerance_mm = 0.05;     // stop when an iteration moves no joint further than this
   double bone_tolerance_mm = 0.01;  // |length - l| every bone must meet when solve() returns
+  // A fit whose bones are still further off than this did not converge (ten times the
+  // tolerance: the final sweeps stopped on their count, not on the tolerance).
+  double max_bone_error_mm = 0.1;
   int max_bone_sweeps = 400;
 };
 
