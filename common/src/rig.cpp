@@ -19,13 +19,17 @@ double orthonormality_error(const Eigen::Matrix3d& R) {
   return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
 }
 
-bool finite(double v) { return std::isfinite(v); }
+bool finite(double v) {
+  return std::isfinite(v);
+}
 template <typename Derived>
 bool all_finite(const Eigen::MatrixBase<Derived>& m) {
   return m.allFinite();
 }
 
-std::string where(const CameraModel& c) { return "camera " + std::to_string(c.id); }
+std::string where(const CameraModel& c) {
+  return "camera " + std::to_string(c.id);
+}
 
 void validate_camera(const CameraModel& c) {
   HULLPOSE_THROW_UNLESS(c.id >= 0 && c.id < 64, "camera id " << c.id << " must be in 0..63");
@@ -54,9 +58,9 @@ struct Reader {
 
   cv::FileNode need(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
     cv::FileNode n = parent[key];
-    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(),
-                          file << ": " << ctx << (ctx.empty() ? "" : ": ") << "missing field '"
-                               << key << "'");
+    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(), file << ": " << ctx
+                                                          << (ctx.empty() ? "" : ": ")
+                                                          << "missing field '" << key << "'");
     return n;
   }
   double real(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
@@ -67,15 +71,16 @@ struct Reader {
   }
   int integer(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
     cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isInt(), file << ": " << ctx << ": field '" << key << "' must be an integer");
+    HULLPOSE_THROW_UNLESS(n.isInt(),
+                          file << ": " << ctx << ": field '" << key << "' must be an integer");
     return static_cast<int>(n);
   }
   std::vector<double> reals(const cv::FileNode& parent, const char* key, size_t count,
                             const std::string& ctx) const {
     cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isSeq() && n.size() == count,
-                          file << ": " << ctx << ": field '" << key << "' must be a list of "
-                               << count << " numbers");
+    HULLPOSE_THROW_UNLESS(n.isSeq() && n.size() == count, file << ": " << ctx << ": field '" << key
+                                                               << "' must be a list of " << count
+                                                               << " numbers");
     std::vector<double> out;
     for (const auto& item : n) {
       HULLPOSE_THROW_UNLESS(item.isReal() || item.isInt(),
@@ -90,7 +95,9 @@ struct Reader {
 
 double repair_rotation(Eigen::Matrix3d& R) {
   const double deviation = orthonormality_error(R);
-  if (!R.allFinite() || deviation < 1e-6 || deviation > kMaxRotationRepair || R.determinant() <= 0) return 0;
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
+      R.determinant() <= 0)
+    return 0;
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   R = svd.matrixU() * svd.matrixV().transpose();
   return deviation;
@@ -130,9 +137,9 @@ Rig load_rig(const std::filesystem::path& path) {
   const cv::FileNode root = fs.root();
 
   const int version = rd.integer(root, "version", "");
-  HULLPOSE_THROW_UNLESS(version == Rig::kFormatVersion,
-                        file << ": unknown rig file version " << version << " (this build reads "
-                             << Rig::kFormatVersion << ")");
+  HULLPOSE_THROW_UNLESS(version == Rig::kFormatVersion, file << ": unknown rig file version "
+                                                             << version << " (this build reads "
+                                                             << Rig::kFormatVersion << ")");
   Rig rig;
   const cv::FileNode id = rd.need(root, "rig_id", "");
   HULLPOSE_THROW_UNLESS(id.isString(), file << ": field 'rig_id' must be a string");
@@ -164,7 +171,8 @@ Rig load_rig(const std::filesystem::path& path) {
     const auto r = rd.reals(node, "R", 9, cctx);
     c.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
     if (const double deviation = repair_rotation(c.R); deviation > 0) {
-      HULLPOSE_LOG(RigFile, Warn) << file << ": " << cctx << ": R is off orthonormal by " << deviation
+      HULLPOSE_LOG(RigFile, Warn) << file << ": " << cctx << ": R is off orthonormal by "
+                                  << deviation
                                   << " (max |R^T R - I|), replaced by the nearest rotation";
     }
     const auto t = rd.reals(node, "t_mm", 3, cctx);
@@ -190,12 +198,15 @@ void save_rig(const Rig& rig, const std::filesystem::path& path) {
   };
   fs << "version" << Rig::kFormatVersion;
   fs << "rig_id" << rig.rig_id;
-  fs << "units" << "mm; world z up, floor z=0; R,t map world to camera";
-  fs << "capture_volume" << "{";
+  fs << "units"
+     << "mm; world z up, floor z=0; R,t map world to camera";
+  fs << "capture_volume"
+     << "{";
   write_seq("min_mm", rig.volume.min_mm.data(), 3);
   write_seq("max_mm", rig.volume.max_mm.data(), 3);
   fs << "}";
-  fs << "cameras" << "[";
+  fs << "cameras"
+     << "[";
   for (const auto& c : rig.cameras) {
     fs << "{";
     fs << "id" << c.id << "name" << c.name << "width" << c.width << "height" << c.height;

@@ -3,4 +3,6 @@
 
 #include "hullpose/import/cli.hpp"
 
-int main(int argc, char** argv) { return hullpose::import::run_cli(argc, argv, std::cout, std::cerr); }
+int main(int argc, char** argv) {
+  return hullpose::import::run_cli(argc, argv, std::cout, std::cerr);
+}

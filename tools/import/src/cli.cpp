@@ -14,17 +14,26 @@ namespace hullpose::import {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hullpose-import rig (--projections PATTERN | --opencv PATTERN) --size WxH --units m|cm|mm|in\n"
-    "                           --up AXIS --floor F --out RIG.yaml [--cameras 1,2,...] [--rig-id ID]\n"
+    "usage: hullpose-import rig (--projections PATTERN | --opencv PATTERN) --size WxH --units "
+    "m|cm|mm|in\n"
+    "                           --up AXIS --floor F --out RIG.yaml [--cameras 1,2,...] [--rig-id "
+    "ID]\n"
     "                           [--volume-min-mm X,Y,Z --volume-max-mm X,Y,Z | --max-height-mm H]\n"
-    "       hullpose-import silhouettes --rig RIG.yaml --pattern PATTERN --out DIR [--first F] [--frames N]\n"
+    "       hullpose-import silhouettes --rig RIG.yaml --pattern PATTERN --out DIR [--first F] "
+    "[--frames N]\n"
     "                           [--fps 30] [--threshold 127] [--motion NAME]\n"
-    "PATTERN: {N} is the camera number (= our camera id), {F} the frame number, zero-padded to as many\n"
-    "digits as letters: 'calibration/camera{N}.P', 'cam{N}/config.xml', 'silhouettes/camera{N}_{FFFF}.png'.\n"
-    "rig: --projections reads 3x4 projection matrices (RQ split; skew reported and dropped), --opencv\n"
-    "OpenCV FileStorage files (CameraMatrix, DistortionCoeffs, Rotation, Translation: world -> camera).\n"
-    "The source world: --units of its coordinates, --up its up axis (y, -z, ...), --floor the floor's\n"
-    "coordinate along that axis. Ours: mm, z up, floor z = 0. Capture volume: the box every camera\n"
+    "PATTERN: {N} is the camera number (= our camera id), {F} the frame number, zero-padded to as "
+    "many\n"
+    "digits as letters: 'calibration/camera{N}.P', 'cam{N}/config.xml', "
+    "'silhouettes/camera{N}_{FFFF}.png'.\n"
+    "rig: --projections reads 3x4 projection matrices (RQ split; skew reported and dropped), "
+    "--opencv\n"
+    "OpenCV FileStorage files (CameraMatrix, DistortionCoeffs, Rotation, Translation: world -> "
+    "camera).\n"
+    "The source world: --units of its coordinates, --up its up axis (y, -z, ...), --floor the "
+    "floor's\n"
+    "coordinate along that axis. Ours: mm, z up, floor z = 0. Capture volume: the box every "
+    "camera\n"
     "sees (from the floor, at most --max-height-mm high) unless given.\n"
     "silhouettes: re-encodes each camera's images into the dataset layout (docs/conventions.md);\n"
     "grey above --threshold is the person. Then: hullpose-fusion-host --replay DIR --out est.csv\n";
@@ -68,24 +77,30 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
     out << line.usage();
     return 0;
   }
-  HULLPOSE_THROW_UNLESS(projections.empty() != opencv.empty(), "give one of --projections or --opencv (see --help)");
+  HULLPOSE_THROW_UNLESS(projections.empty() != opencv.empty(),
+                        "give one of --projections or --opencv (see --help)");
   HULLPOSE_THROW_UNLESS(!rig_out.empty(), "--out RIG.yaml is needed");
   // The source world is never guessed: a wrong guess gives a rig that looks right and is not.
-  HULLPOSE_THROW_UNLESS(!units.empty() && !up.empty() && !std::isnan(floor),
-                        "--units, --up and --floor describe the source world and are all needed (see --help)");
+  HULLPOSE_THROW_UNLESS(
+      !units.empty() && !up.empty() && !std::isnan(floor),
+      "--units, --up and --floor describe the source world and are all needed (see --help)");
   o.kind = projections.empty() ? SourceKind::kOpenCv : SourceKind::kProjection;
   o.pattern = projections.empty() ? opencv : projections;
   o.world.mm_per_unit = parse_units(units);
   o.world.up = parse_axis(up);
   o.world.floor = floor;
   const size_t x = size.find('x');
-  HULLPOSE_THROW_UNLESS(x != std::string::npos, "--size: expected WxH, e.g. 1600x1200, got '" << size << "'");
+  HULLPOSE_THROW_UNLESS(x != std::string::npos,
+                        "--size: expected WxH, e.g. 1600x1200, got '" << size << "'");
   o.width = static_cast<int>(cli::parse_integer("--size", size.substr(0, x)));
   o.height = static_cast<int>(cli::parse_integer("--size", size.substr(x + 1)));
   if (!cameras.empty())
     for (double n : parse_list("--cameras", cameras)) o.cameras.push_back(static_cast<int>(n));
-  HULLPOSE_THROW_UNLESS(min_mm.empty() == max_mm.empty(), "--volume-min-mm and --volume-max-mm go together");
-  if (!min_mm.empty()) o.volume = CaptureVolume{parse_point("--volume-min-mm", min_mm), parse_point("--volume-max-mm", max_mm)};
+  HULLPOSE_THROW_UNLESS(min_mm.empty() == max_mm.empty(),
+                        "--volume-min-mm and --volume-max-mm go together");
+  if (!min_mm.empty())
+    o.volume = CaptureVolume{parse_point("--volume-min-mm", min_mm),
+                             parse_point("--volume-max-mm", max_mm)};
 
   const RigImport r = import_rig(o);
   save_rig(r.rig, rig_out);
@@ -95,15 +110,16 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
     const Eigen::Vector3d centre = c.centre();
     // Viewing direction in our world: the camera's z axis.
     const Eigen::Vector3d view = c.R.row(2).transpose();
-    out << "camera " << c.id << " (" << ic.source.string() << "): f " << std::setprecision(1) << c.fx << "," << c.fy
-        << " c " << c.cx << "," << c.cy << " centre [" << centre.x() << ", " << centre.y() << ", " << centre.z()
-        << "] mm, looking " << std::setprecision(1) << std::asin(std::clamp(-view.z(), -1.0, 1.0)) * 180 / M_PI
-        << " deg down";
+    out << "camera " << c.id << " (" << ic.source.string() << "): f " << std::setprecision(1)
+        << c.fx << "," << c.fy << " c " << c.cx << "," << c.cy << " centre [" << centre.x() << ", "
+        << centre.y() << ", " << centre.z() << "] mm, looking " << std::setprecision(1)
+        << std::asin(std::clamp(-view.z(), -1.0, 1.0)) * 180 / M_PI << " deg down";
     if (o.kind == SourceKind::kProjection)
-      out << ", skew " << std::setprecision(3) << ic.skew_px << " px (dropped: up to " << ic.skew_shift_px
-          << " px)";
+      out << ", skew " << std::setprecision(3) << ic.skew_px << " px (dropped: up to "
+          << ic.skew_shift_px << " px)";
     if (ic.rotation_repair > 0)
-      out << ", rotation re-orthonormalised (deviation " << std::scientific << ic.rotation_repair << std::fixed << ")";
+      out << ", rotation re-orthonormalised (deviation " << std::scientific << ic.rotation_repair
+          << std::fixed << ")";
     out << "\n";
   }
   out << std::setprecision(0) << "capture volume [" << r.rig.volume.min_mm.transpose() << "] .. ["
@@ -132,8 +148,8 @@ int silhouettes_command(int argc, const char* const* argv, std::ostream& out) {
   o.rig = rig;
   o.out = dir;
   const SilhouetteImport s = import_silhouettes(o);
-  out << "wrote " << dir << ": " << s.frames << " frames, " << s.masks << " masks, " << s.missing << " missing, "
-      << s.unreadable << " unreadable (cameras without a mask in those frames)\n";
+  out << "wrote " << dir << ": " << s.frames << " frames, " << s.masks << " masks, " << s.missing
+      << " missing, " << s.unreadable << " unreadable (cameras without a mask in those frames)\n";
   return 0;
 }
 

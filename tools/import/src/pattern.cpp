@@ -25,9 +25,10 @@ std::string expand(const std::string& pattern, char letter, int value, bool requ
     }
     out += pattern[i];
   }
-  HULLPOSE_THROW_UNLESS(found || !required,
-                        "pattern '" << pattern << "' has no {" << letter << "} field (e.g. {" << letter << "} or {"
-                                    << letter << letter << letter << letter << "})");
+  HULLPOSE_THROW_UNLESS(found || !required, "pattern '" << pattern << "' has no {" << letter
+                                                        << "} field (e.g. {" << letter << "} or {"
+                                                        << letter << letter << letter << letter
+                                                        << "})");
   return out;
 }
 

@@ -16,7 +16,8 @@ namespace hullpose::import {
 Eigen::Matrix3d SourceWorld::rotation() const {
   // Rows: our x, y, z axes written in source coordinates.
   const Eigen::Vector3d z = up;
-  const Eigen::Vector3d x = std::abs(up.x()) > 0.5 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d x =
+      std::abs(up.x()) > 0.5 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
   Eigen::Matrix3d A;
   A.row(0) = x.transpose();
   A.row(1) = z.cross(x).transpose();
@@ -24,8 +25,8 @@ Eigen::Matrix3d SourceWorld::rotation() const {
   return A;
 }
 
-void SourceWorld::convert(const Eigen::Matrix3d& R_src, const Eigen::Vector3d& t_src, Eigen::Matrix3d& R,
-                          Eigen::Vector3d& t) const {
+void SourceWorld::convert(const Eigen::Matrix3d& R_src, const Eigen::Vector3d& t_src,
+                          Eigen::Matrix3d& R, Eigen::Vector3d& t) const {
   // x_src = Aᵀ (x_ours + floor_mm e_z) / s, so x_cam_mm = s (R_src x_src + t_src)
   //       = R_src Aᵀ x_ours + R_src Aᵀ floor_mm e_z + s t_src.
   const Eigen::Matrix3d A = rotation();
@@ -78,7 +79,8 @@ ProjectionSplit split_projection(const Eigen::Matrix<double, 3, 4>& P_in, const 
   s.K = K / K(2, 2);
   s.R = Q;
   s.skew = s.K(0, 1);
-  HULLPOSE_THROW_UNLESS(s.R.determinant() > 0, what << ": P does not split into a rotation (det R < 0)");
+  HULLPOSE_THROW_UNLESS(s.R.determinant() > 0,
+                        what << ": P does not split into a rotation (det R < 0)");
   return s;
 }
 
@@ -88,7 +90,8 @@ Eigen::Matrix<double, 3, 4> read_projection(const std::filesystem::path& path) {
   Eigen::Matrix<double, 3, 4> P;
   for (int i = 0; i < 12; ++i) {
     std::string token;
-    HULLPOSE_THROW_UNLESS(in >> token, path.string() << ": expected 12 numbers (3 rows of 4), found " << i);
+    HULLPOSE_THROW_UNLESS(in >> token, path.string()
+                                           << ": expected 12 numbers (3 rows of 4), found " << i);
     size_t used = 0;
     double v = 0;
     try {
@@ -102,7 +105,8 @@ Eigen::Matrix<double, 3, 4> read_projection(const std::filesystem::path& path) {
     P(i / 4, i % 4) = v;
   }
   std::string extra;
-  HULLPOSE_THROW_UNLESS(!(in >> extra), path.string() << ": more than 12 numbers ('" << extra << "' ...)");
+  HULLPOSE_THROW_UNLESS(!(in >> extra), path.string()
+                                            << ": more than 12 numbers ('" << extra << "' ...)");
   return P;
 }
 
@@ -120,7 +124,8 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::filesystem::path& path
     } catch (const cv::Exception& e) {
       HULLPOSE_THROW(path.string() << ": field '" << name << "' is not a matrix: " << e.err);
     }
-    HULLPOSE_THROW_UNLESS(!m.empty() && m.channels() == 1, path.string() << ": field '" << name << "' is not a matrix");
+    HULLPOSE_THROW_UNLESS(!m.empty() && m.channels() == 1,
+                          path.string() << ": field '" << name << "' is not a matrix");
     cv::Mat d;
     m.convertTo(d, CV_64F);
     for (int i = 0; i < d.rows; ++i)
@@ -145,12 +150,14 @@ ImportedCamera read_opencv_camera(const std::filesystem::path& path) {
   }
   HULLPOSE_THROW_UNLESS(fs.isOpened(), file << ": cannot open");
   const cv::Mat K = read_matrix(fs, path, {"CameraMatrix", "camera_matrix", "K"});
-  const cv::Mat D = read_matrix(fs, path, {"DistortionCoeffs", "distortion_coefficients", "dist_coeffs", "D"});
+  const cv::Mat D =
+      read_matrix(fs, path, {"DistortionCoeffs", "distortion_coefficients", "dist_coeffs", "D"});
   const cv::Mat Rm = read_matrix(fs, path, {"Rotation", "rvec", "R"});
   const cv::Mat T = read_matrix(fs, path, {"Translation", "tvec", "T"});
   HULLPOSE_THROW_UNLESS(K.rows == 3 && K.cols == 3, file << ": field 'CameraMatrix' must be 3x3");
   HULLPOSE_THROW_UNLESS(T.total() == 3, file << ": field 'Translation' must hold 3 numbers");
-  HULLPOSE_THROW_UNLESS(D.total() <= 14, file << ": field 'DistortionCoeffs' has " << D.total() << " numbers");
+  HULLPOSE_THROW_UNLESS(D.total() <= 14,
+                        file << ": field 'DistortionCoeffs' has " << D.total() << " numbers");
   ImportedCamera out;
   out.source = path;
   CameraModel& c = out.camera;
@@ -164,8 +171,9 @@ ImportedCamera read_opencv_camera(const std::filesystem::path& path) {
     if (i < 5)
       c.dist[static_cast<size_t>(i)] = d.at<double>(0, i);
     else
-      HULLPOSE_THROW_UNLESS(d.at<double>(0, i) == 0, file << ": field 'DistortionCoeffs': coefficient " << i
-                                                          << " is not zero; only k1 k2 p1 p2 k3 are supported");
+      HULLPOSE_THROW_UNLESS(d.at<double>(0, i) == 0,
+                            file << ": field 'DistortionCoeffs': coefficient " << i
+                                 << " is not zero; only k1 k2 p1 p2 k3 are supported");
   }
   Eigen::Matrix3d R;
   if (Rm.total() == 3) {
@@ -173,8 +181,9 @@ ImportedCamera read_opencv_camera(const std::filesystem::path& path) {
     cv::Rodrigues(Rm.reshape(1, 3), r);
     cv::cv2eigen(r, R);
   } else {
-    HULLPOSE_THROW_UNLESS(Rm.rows == 3 && Rm.cols == 3,
-                          file << ": field 'Rotation' must be a Rodrigues vector (3) or a 3x3 matrix");
+    HULLPOSE_THROW_UNLESS(
+        Rm.rows == 3 && Rm.cols == 3,
+        file << ": field 'Rotation' must be a Rodrigues vector (3) or a 3x3 matrix");
     cv::cv2eigen(Rm, R);
     out.rotation_repair = repair_rotation(R);
   }
@@ -184,12 +193,14 @@ ImportedCamera read_opencv_camera(const std::filesystem::path& path) {
 }
 
 RigImport import_rig(const RigImportOptions& o) {
-  HULLPOSE_THROW_UNLESS(o.width > 0 && o.height > 0, "--size WxH is needed (neither format stores the image size)");
+  HULLPOSE_THROW_UNLESS(o.width > 0 && o.height > 0,
+                        "--size WxH is needed (neither format stores the image size)");
   std::vector<int> numbers = o.cameras;
   if (numbers.empty())
     for (int n = 0; n < 64; ++n)
       if (std::filesystem::exists(expand(o.pattern, 'N', n))) numbers.push_back(n);
-  HULLPOSE_THROW_UNLESS(!numbers.empty(), "no file matches '" << o.pattern << "' for camera numbers 0..63");
+  HULLPOSE_THROW_UNLESS(!numbers.empty(),
+                        "no file matches '" << o.pattern << "' for camera numbers 0..63");
   RigImport out;
   out.rig.rig_id = o.rig_id;
   for (int n : numbers) {
@@ -235,8 +246,10 @@ RigImport import_rig(const RigImportOptions& o) {
   if (o.volume) {
     out.rig.volume = *o.volume;
   } else {
-    out.rig.volume = calibrate::common_view_volume(out.rig.cameras, static_cast<int>(out.rig.cameras.size()), 50);
-    if (o.max_height_mm > 0) out.rig.volume.max_mm.z() = std::min(out.rig.volume.max_mm.z(), o.max_height_mm);
+    out.rig.volume = calibrate::common_view_volume(out.rig.cameras,
+                                                   static_cast<int>(out.rig.cameras.size()), 50);
+    if (o.max_height_mm > 0)
+      out.rig.volume.max_mm.z() = std::min(out.rig.volume.max_mm.z(), o.max_height_mm);
   }
   out.rig.validate();
   return out;

@@ -14,14 +14,16 @@ HULLPOSE_LOG_CATEGORY(Import, "import")
 
 SilhouetteImport import_silhouettes(const SilhouetteImportOptions& o) {
   HULLPOSE_THROW_UNLESS(o.fps > 0, "--fps must be positive, got " << o.fps);
-  HULLPOSE_THROW_UNLESS(o.threshold >= 0 && o.threshold < 255, "--threshold must be in 0..254, got " << o.threshold);
+  HULLPOSE_THROW_UNLESS(o.threshold >= 0 && o.threshold < 255,
+                        "--threshold must be in 0..254, got " << o.threshold);
   const Rig rig = load_rig(o.rig);
   // Fail on a pattern without fields before writing anything.
   expand(expand(o.pattern, 'N', 0), 'F', 0);
   const DatasetPaths paths(o.out);
   std::filesystem::create_directories(o.out);
   save_rig(rig, paths.rig());
-  for (const CameraModel& c : rig.cameras) std::filesystem::create_directories(paths.camera_dir(c.id));
+  for (const CameraModel& c : rig.cameras)
+    std::filesystem::create_directories(paths.camera_dir(c.id));
 
   SilhouetteImport out;
   cv::Mat mask;
@@ -38,13 +40,15 @@ SilhouetteImport import_silhouettes(const SilhouetteImportOptions& o) {
       const cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
       if (image.empty()) {
         ++out.unreadable;
-        HULLPOSE_LOG(Import, Warn) << file.string() << ": unreadable (corrupt or truncated): camera " << c.id
-                                   << " has no mask for frame " << f;
+        HULLPOSE_LOG(Import, Warn)
+            << file.string() << ": unreadable (corrupt or truncated): camera " << c.id
+            << " has no mask for frame " << f;
         continue;
       }
       HULLPOSE_THROW_UNLESS(image.cols == c.width && image.rows == c.height,
-                            file.string() << ": " << image.cols << "x" << image.rows << " but camera " << c.id
-                                          << " of " << o.rig.string() << " is " << c.width << "x" << c.height);
+                            file.string() << ": " << image.cols << "x" << image.rows
+                                          << " but camera " << c.id << " of " << o.rig.string()
+                                          << " is " << c.width << "x" << c.height);
       cv::threshold(image, mask, o.threshold, 255, cv::THRESH_BINARY);
       HULLPOSE_THROW_UNLESS(cv::imwrite(paths.mask(c.id, f).string(), mask),
                             paths.mask(c.id, f).string() << ": cannot write");
@@ -57,7 +61,8 @@ SilhouetteImport import_silhouettes(const SilhouetteImportOptions& o) {
     out.frames = f + 1;
   }
   HULLPOSE_THROW_UNLESS(out.frames > 0, "no file matches '" << o.pattern << "' at frame " << o.first
-                                                            << " for the cameras of " << o.rig.string());
+                                                            << " for the cameras of "
+                                                            << o.rig.string());
   DatasetMeta meta;
   meta.motion = o.motion;
   meta.frames = out.frames;

@@ -32,9 +32,10 @@ struct Rig {
 };
 
 // Other tools write rotations with few decimals (6 are common), a little off orthonormal. If
-// max|RᵀR - I| is at least 1e-6 (what validate() accepts) and at most kMaxRotationRepair, R is
-// replaced by the nearest rotation (SVD) and the deviation is returned; otherwise R is left alone
-// (0 when it already is a rotation; a gross error or a reflection stays for validate() to refuse).
+// max|RᵀR - I| is above 1e-10 (more than a computed rotation's rounding, so rigs we write still
+// round-trip exactly) and at most kMaxRotationRepair, R is replaced by the nearest rotation (SVD)
+// and the deviation is returned; otherwise R is left alone and 0 returned (a gross error or a
+// reflection stays for validate() to refuse).
 inline constexpr double kMaxRotationRepair = 1e-3;
 double repair_rotation(Eigen::Matrix3d& R);
 

@@ -20,9 +20,9 @@ namespace hullpose::import {
 
 // How the source world's coordinates map onto ours.
 struct SourceWorld {
-  double mm_per_unit = 1;      // "m" = 1000, "cm" = 10, "mm" = 1, "in" = 25.4
+  double mm_per_unit = 1;       // "m" = 1000, "cm" = 10, "mm" = 1, "in" = 25.4
   Eigen::Vector3d up{0, 0, 1};  // the source's up axis, a signed unit axis (+y, -z, ...)
-  double floor = 0;            // the floor's coordinate along `up`, source units
+  double floor = 0;             // the floor's coordinate along `up`, source units
 
   // Ours from source: x_ours = rotation() * x_src * mm_per_unit - floor_mm e_z, a proper rotation
   // that takes `up` to +z (and the first other source axis to +x).
@@ -51,9 +51,9 @@ Eigen::Matrix<double, 3, 4> read_projection(const std::filesystem::path& path); 
 struct ImportedCamera {
   CameraModel camera;
   std::filesystem::path source;
-  double skew_px = 0;            // projection matrices: K(0,1)
-  double skew_shift_px = 0;      // largest pixel shift over the image from dropping the skew
-  double rotation_repair = 0;    // OpenCV 3x3 rotations: deviation repaired (repair_rotation)
+  double skew_px = 0;          // projection matrices: K(0,1)
+  double skew_shift_px = 0;    // largest pixel shift over the image from dropping the skew
+  double rotation_repair = 0;  // OpenCV 3x3 rotations: deviation repaired (repair_rotation)
 };
 
 // From an OpenCV FileStorage file; throws hullpose::Error naming the file and the field.
@@ -63,9 +63,9 @@ enum class SourceKind { kProjection, kOpenCv };
 
 struct RigImportOptions {
   SourceKind kind = SourceKind::kProjection;
-  std::string pattern;                // path with {N} for the camera number (pattern.hpp)
-  std::vector<int> cameras;           // camera numbers; empty = every N in 0..63 whose file exists
-  int width = 0, height = 0;          // image size (neither format stores it)
+  std::string pattern;        // path with {N} for the camera number (pattern.hpp)
+  std::vector<int> cameras;   // camera numbers; empty = every N in 0..63 whose file exists
+  int width = 0, height = 0;  // image size (neither format stores it)
   SourceWorld world;
   std::string rig_id = "imported";
   std::optional<CaptureVolume> volume;  // default: the box every camera sees (common_view_volume)

@@ -12,11 +12,11 @@
 namespace hullpose::import {
 
 struct SilhouetteImportOptions {
-  std::filesystem::path rig;       // our rig file (e.g. from import_rig)
-  std::string pattern;             // {N} camera number = rig camera id, {F} frame number
-  std::filesystem::path out;       // dataset folder, created
-  int first = 0;                   // first source frame number
-  int frames = -1;                 // < 0: until no camera has a file for the next frame number
+  std::filesystem::path rig;  // our rig file (e.g. from import_rig)
+  std::string pattern;        // {N} camera number = rig camera id, {F} frame number
+  std::filesystem::path out;  // dataset folder, created
+  int first = 0;              // first source frame number
+  int frames = -1;            // < 0: until no camera has a file for the next frame number
   double fps = 30;
   int threshold = 127;
   std::string motion = "imported";  // meta.json "motion"
