@@ -7,6 +7,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/import/recording_import.hpp"
 #include "hullpose/import/rig_import.hpp"
 #include "hullpose/import/silhouette_import.hpp"
 
@@ -18,7 +19,8 @@ constexpr const char* kUsage =
     "m|cm|mm|in\n"
     "                           --up AXIS --floor F --out RIG.yaml [--cameras 1,2,...] [--rig-id "
     "ID]\n"
-    "                           [--volume-min-mm X,Y,Z --volume-max-mm X,Y,Z | --max-height-mm H]\n"
+    "                           [--volume-min-mm X,Y,Z --volume-max-mm X,Y,Z | --volume-size-mm X,Y,Z |\n"
+    "                            --max-height-mm H]\n"
     "       hullpose-import silhouettes --rig RIG.yaml --pattern PATTERN --out DIR [--first F] "
     "[--frames N]\n"
     "                           [--fps 30] [--threshold 127] [--motion NAME]\n"
@@ -34,9 +36,12 @@ constexpr const char* kUsage =
     "floor's\n"
     "coordinate along that axis. Ours: mm, z up, floor z = 0. Capture volume: the box every "
     "camera\n"
-    "sees (from the floor, at most --max-height-mm high) unless given.\n"
+    "sees (from the floor, at most --max-height-mm high), or a box of --volume-size-mm on the floor\n"
+    "centred where the cameras' optical axes meet, or the box given.\n"
     "silhouettes: re-encodes each camera's images into the dataset layout (docs/conventions.md);\n"
-    "grey above --threshold is the person. Then: hullpose-fusion-host --replay DIR --out est.csv\n";
+    "grey above --threshold is the person. Then: hullpose-fusion-host --replay DIR --out est.csv\n"
+    "recording: runs each camera node config (file source: video or images, its background, method and\n"
+    "clean-up) in-process and writes every frame's colour image and silhouette into the dataset layout.\n";
 
 std::vector<double> parse_list(const std::string& name, const std::string& text) {
   std::vector<double> v;
@@ -58,7 +63,7 @@ Eigen::Vector3d parse_point(const std::string& name, const std::string& text) {
 
 int rig_command(int argc, const char* const* argv, std::ostream& out) {
   RigImportOptions o;
-  std::string projections, opencv, size, units, up, min_mm, max_mm, rig_out, cameras;
+  std::string projections, opencv, size, units, up, min_mm, max_mm, size_mm, rig_out, cameras;
   double floor = std::nan("");
   cli::CommandLine line(kUsage);
   line.option("--projections", projections)
@@ -72,6 +77,7 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--rig-id", o.rig_id)
       .option("--volume-min-mm", min_mm)
       .option("--volume-max-mm", max_mm)
+      .option("--volume-size-mm", size_mm)
       .option("--max-height-mm", o.max_height_mm);
   if (!line.parse(argc, argv)) {
     out << line.usage();
@@ -98,6 +104,10 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
     for (double n : parse_list("--cameras", cameras)) o.cameras.push_back(static_cast<int>(n));
   HULLPOSE_THROW_UNLESS(min_mm.empty() == max_mm.empty(),
                         "--volume-min-mm and --volume-max-mm go together");
+  if (!size_mm.empty()) {
+    o.volume_size_mm = parse_point("--volume-size-mm", size_mm);
+    HULLPOSE_THROW_UNLESS((o.volume_size_mm->array() > 0).all(), "--volume-size-mm: every side must be positive");
+  }
   if (!min_mm.empty())
     o.volume = CaptureVolume{parse_point("--volume-min-mm", min_mm),
                              parse_point("--volume-max-mm", max_mm)};
@@ -153,6 +163,29 @@ int silhouettes_command(int argc, const char* const* argv, std::ostream& out) {
   return 0;
 }
 
+int recording_command(int argc, const char* const* argv, std::ostream& out) {
+  RecordingImportOptions o;
+  std::string dir;
+  bool no_rgb = false;
+  cli::CommandLine line(kUsage);
+  line.option("--node-config", [&](const std::string& v) { o.node_configs.emplace_back(v); })
+      .option("--out", dir)
+      .option("--frames", o.frames)
+      .option("--fps", o.fps)
+      .flag("--no-rgb", no_rgb);
+  if (!line.parse(argc, argv)) {
+    out << line.usage();
+    return 0;
+  }
+  HULLPOSE_THROW_UNLESS(!dir.empty(), "--out DIR is needed");
+  o.out = dir;
+  o.rgb = !no_rgb;
+  const RecordingImport r = import_recordings(o);
+  out << "wrote " << dir << ": " << r.frames << " frames, " << r.masks << " masks, " << r.corrupt
+      << " corrupt frames (those cameras missing there)\n";
+  return 0;
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -160,11 +193,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const std::string_view command = argc > 1 ? argv[1] : "";
     if (command == "rig") return rig_command(argc - 1, argv + 1, out);
     if (command == "silhouettes") return silhouettes_command(argc - 1, argv + 1, out);
+    if (command == "recording") return recording_command(argc - 1, argv + 1, out);
     if (command == "-h" || command == "--help") {
       out << kUsage;
       return 0;
     }
-    HULLPOSE_THROW("expected 'rig' or 'silhouettes' first, got '" << command << "' (see --help)");
+    HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command << "' (see --help)");
   } catch (const Error& e) {
     err << "hullpose-import: error: " << e.what() << "\n";
     return 2;

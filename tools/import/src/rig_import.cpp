@@ -192,6 +192,20 @@ ImportedCamera read_opencv_camera(const std::filesystem::path& path) {
   return out;
 }
 
+Eigen::Vector3d axes_meeting_point(const std::vector<CameraModel>& cameras) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const CameraModel& c : cameras) {
+    const Eigen::Vector3d d = c.R.row(2).transpose();  // the optical axis in the world
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - d * d.transpose();
+    A += P;
+    b += P * c.centre();
+  }
+  HULLPOSE_THROW_UNLESS(std::abs(A.determinant()) > 1e-9,
+                        "the cameras' optical axes are parallel: no point where they meet (give --volume-min-mm/--volume-max-mm)");
+  return A.ldlt().solve(b);
+}
+
 RigImport import_rig(const RigImportOptions& o) {
   HULLPOSE_THROW_UNLESS(o.width > 0 && o.height > 0,
                         "--size WxH is needed (neither format stores the image size)");
@@ -245,6 +259,10 @@ RigImport import_rig(const RigImportOptions& o) {
   }
   if (o.volume) {
     out.rig.volume = *o.volume;
+  } else if (o.volume_size_mm) {
+    const Eigen::Vector3d m = axes_meeting_point(out.rig.cameras), half = *o.volume_size_mm / 2;
+    out.rig.volume.min_mm = Eigen::Vector3d(m.x() - half.x(), m.y() - half.y(), 0);
+    out.rig.volume.max_mm = Eigen::Vector3d(m.x() + half.x(), m.y() + half.y(), o.volume_size_mm->z());
   } else {
     out.rig.volume = calibrate::common_view_volume(out.rig.cameras,
                                                    static_cast<int>(out.rig.cameras.size()), 50);

@@ -69,6 +69,10 @@ struct RigImportOptions {
   SourceWorld world;
   std::string rig_id = "imported";
   std::optional<CaptureVolume> volume;  // default: the box every camera sees (common_view_volume)
+  // Or a box of this size (x, y, z) on the floor, centred under the point nearest to every
+  // camera's optical axis: a rig's cameras aim at the middle of the capture area, and a volume
+  // the size of the subject's space carves finer and with fewer ghosts than all the shared view.
+  std::optional<Eigen::Vector3d> volume_size_mm;
   double max_height_mm = 0;             // > 0: the default volume stops at this height
 };
 
@@ -76,6 +80,9 @@ struct RigImport {
   Rig rig;
   std::vector<ImportedCamera> cameras;
 };
+
+// The point nearest (least squares) to every camera's optical axis, world mm.
+Eigen::Vector3d axes_meeting_point(const std::vector<CameraModel>& cameras);
 
 // Reads and converts every camera; the capture volume as given or computed. The camera number N
 // becomes the camera id. Throws hullpose::Error naming the file and the field.
