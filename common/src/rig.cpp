@@ -1,22 +1,35 @@
 #include "hullpose/common/rig.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <set>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/log.hpp"
 
 namespace hullpose {
+
+HULLPOSE_LOG_CATEGORY(RigFile, "rig")
+
 namespace {
 
-bool finite(double v) { return std::isfinite(v); }
+double orthonormality_error(const Eigen::Matrix3d& R) {
+  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+}
+
+bool finite(double v) {
+  return std::isfinite(v);
+}
 template <typename Derived>
 bool all_finite(const Eigen::MatrixBase<Derived>& m) {
   return m.allFinite();
 }
 
-std::string where(const CameraModel& c) { return "camera " + std::to_string(c.id); }
+std::string where(const CameraModel& c) {
+  return "camera " + std::to_string(c.id);
+}
 
 void validate_camera(const CameraModel& c) {
   HULLPOSE_THROW_UNLESS(c.id >= 0 && c.id < 64, "camera id " << c.id << " must be in 0..63");
@@ -32,7 +45,7 @@ void validate_camera(const CameraModel& c) {
     HULLPOSE_THROW_UNLESS(finite(c.dist[i]), where(c) << ": dist[" << i << "] is not finite");
   HULLPOSE_THROW_UNLESS(all_finite(c.R), where(c) << ": R has a non-finite entry");
   HULLPOSE_THROW_UNLESS(all_finite(c.t), where(c) << ": t has a non-finite entry");
-  const double orth = (c.R.transpose() * c.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double orth = orthonormality_error(c.R);
   HULLPOSE_THROW_UNLESS(orth < 1e-6 && c.R.determinant() > 0,
                         where(c) << ": R is not a rotation (|R^T R - I| = " << orth
                                  << ", det = " << c.R.determinant() << ")");
@@ -45,9 +58,9 @@ struct Reader {
 
   cv::FileNode need(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
     cv::FileNode n = parent[key];
-    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(),
-                          file << ": " << ctx << (ctx.empty() ? "" : ": ") << "missing field '"
-                               << key << "'");
+    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(), file << ": " << ctx
+                                                          << (ctx.empty() ? "" : ": ")
+                                                          << "missing field '" << key << "'");
     return n;
   }
   double real(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
@@ -58,15 +71,16 @@ struct Reader {
   }
   int integer(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
     cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isInt(), file << ": " << ctx << ": field '" << key << "' must be an integer");
+    HULLPOSE_THROW_UNLESS(n.isInt(),
+                          file << ": " << ctx << ": field '" << key << "' must be an integer");
     return static_cast<int>(n);
   }
   std::vector<double> reals(const cv::FileNode& parent, const char* key, size_t count,
                             const std::string& ctx) const {
     cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isSeq() && n.size() == count,
-                          file << ": " << ctx << ": field '" << key << "' must be a list of "
-                               << count << " numbers");
+    HULLPOSE_THROW_UNLESS(n.isSeq() && n.size() == count, file << ": " << ctx << ": field '" << key
+                                                               << "' must be a list of " << count
+                                                               << " numbers");
     std::vector<double> out;
     for (const auto& item : n) {
       HULLPOSE_THROW_UNLESS(item.isReal() || item.isInt(),
@@ -78,6 +92,16 @@ struct Reader {
 };
 
 }  // namespace
+
+double repair_rotation(Eigen::Matrix3d& R) {
+  const double deviation = orthonormality_error(R);
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
+      R.determinant() <= 0)
+    return 0;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  return deviation;
+}
 
 const CameraModel* Rig::find(int camera_id) const {
   for (const auto& c : cameras)
@@ -113,9 +137,9 @@ Rig load_rig(const std::filesystem::path& path) {
   const cv::FileNode root = fs.root();
 
   const int version = rd.integer(root, "version", "");
-  HULLPOSE_THROW_UNLESS(version == Rig::kFormatVersion,
-                        file << ": unknown rig file version " << version << " (this build reads "
-                             << Rig::kFormatVersion << ")");
+  HULLPOSE_THROW_UNLESS(version == Rig::kFormatVersion, file << ": unknown rig file version "
+                                                             << version << " (this build reads "
+                                                             << Rig::kFormatVersion << ")");
   Rig rig;
   const cv::FileNode id = rd.need(root, "rig_id", "");
   HULLPOSE_THROW_UNLESS(id.isString(), file << ": field 'rig_id' must be a string");
@@ -146,6 +170,11 @@ Rig load_rig(const std::filesystem::path& path) {
     std::copy(d.begin(), d.end(), c.dist.begin());
     const auto r = rd.reals(node, "R", 9, cctx);
     c.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
+    if (const double deviation = repair_rotation(c.R); deviation > 0) {
+      HULLPOSE_LOG(RigFile, Warn) << file << ": " << cctx << ": R is off orthonormal by "
+                                  << deviation
+                                  << " (max |R^T R - I|), replaced by the nearest rotation";
+    }
     const auto t = rd.reals(node, "t_mm", 3, cctx);
     c.t = Eigen::Vector3d(t[0], t[1], t[2]);
     rig.cameras.push_back(std::move(c));
@@ -169,12 +198,15 @@ void save_rig(const Rig& rig, const std::filesystem::path& path) {
   };
   fs << "version" << Rig::kFormatVersion;
   fs << "rig_id" << rig.rig_id;
-  fs << "units" << "mm; world z up, floor z=0; R,t map world to camera";
-  fs << "capture_volume" << "{";
+  fs << "units"
+     << "mm; world z up, floor z=0; R,t map world to camera";
+  fs << "capture_volume"
+     << "{";
   write_seq("min_mm", rig.volume.min_mm.data(), 3);
   write_seq("max_mm", rig.volume.max_mm.data(), 3);
   fs << "}";
-  fs << "cameras" << "[";
+  fs << "cameras"
+     << "[";
   for (const auto& c : rig.cameras) {
     fs << "{";
     fs << "id" << c.id << "name" << c.name << "width" << c.width << "height" << c.height;

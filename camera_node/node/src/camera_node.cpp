@@ -32,22 +32,23 @@ Rig load_rig_for(const NodeConfig& c) {
 
 }  // namespace
 
-CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources, std::unique_ptr<FrameTrigger> trigger)
+CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources,
+                       std::unique_ptr<FrameTrigger> trigger)
     : config_(std::move(config)),
       rig_(load_rig_for(config_)),
       cleanup_({config_.post.open_radius, config_.post.close_radius, config_.post.min_blob_area,
                 config_.post.max_hole_area}) {
   const std::string file = config_.file.string();
   const CameraModel* cam = rig_.find(config_.camera_id);
-  HULLPOSE_THROW_UNLESS(cam, file << ": camera_id: camera " << config_.camera_id << " is not in the rig file "
-                                  << config_.rig_file.string());
+  HULLPOSE_THROW_UNLESS(cam, file << ": camera_id: camera " << config_.camera_id
+                                  << " is not in the rig file " << config_.rig_file.string());
   camera_ = *cam;
   const cv::Rect image(0, 0, camera_.width, camera_.height);
   roi_ = config_.post.roi.empty() ? image : config_.post.roi;
-  HULLPOSE_THROW_UNLESS((roi_ & image) == roi_, file << ": post.roi: [" << roi_.x << ", " << roi_.y << ", "
-                                                     << roi_.width << ", " << roi_.height << "] is outside the "
-                                                     << camera_.width << "x" << camera_.height << " image of camera "
-                                                     << camera_.id);
+  HULLPOSE_THROW_UNLESS((roi_ & image) == roi_,
+                        file << ": post.roi: [" << roi_.x << ", " << roi_.y << ", " << roi_.width
+                             << ", " << roi_.height << "] is outside the " << camera_.width << "x"
+                             << camera_.height << " image of camera " << camera_.id);
   const SourceContext context{config_.camera_id, camera_, rig_.volume, config_.base_dir};
   source_ = sources.create(config_.source.type, config_.source.params, context);
   if (!config_.bgs.background.empty()) {
@@ -64,11 +65,13 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources, std::un
   }
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
-  publisher_ = std::make_unique<SilhouettePublisher>(config_.lcm, rig_.rig_id, config_.camera_id, counters_);
+  counters_.add("corrupt_frame", 0);
+  publisher_ =
+      std::make_unique<SilhouettePublisher>(config_.lcm, rig_.rig_id, config_.camera_id, counters_);
   trigger_ = std::move(trigger);
   if (!trigger_ && config_.trigger.enabled) {
-    trigger_ = std::make_unique<TriggerStage>(config_.trigger, config_.lcm, rig_.rig_id, config_.camera_id,
-                                              source_->triggerable());
+    trigger_ = std::make_unique<TriggerStage>(config_.trigger, config_.lcm, rig_.rig_id,
+                                              config_.camera_id, source_->triggerable());
   }
   mask_ = cv::Mat::zeros(camera_.height, camera_.width, CV_8UC1);
   roi_mask_.create(roi_.size(), CV_8UC1);
@@ -87,10 +90,11 @@ void CameraNode::start() {
   maybe_publish_status(true, hullpose_msg::node_status_t::STATE_STARTING, "starting");
   source_->start();
   started_ = true;
-  HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": " << source_->describe() << ", method "
-                           << subtractor_->name();
+  HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": " << source_->describe()
+                           << ", method " << subtractor_->name();
   learn_background();
-  if (trigger_) trigger_->start();  // after learning: a simulated master waits for every node's wire
+  if (trigger_)
+    trigger_->start();  // after learning: a simulated master waits for every node's wire
   interval_start_us_ = monotonic_us();
 }
 
@@ -103,21 +107,24 @@ void CameraNode::learn_background() {
   while (learnt < config_.bgs.learn_frames) {
     const GrabStatus s = src.grab(frame, kLearnTimeoutMs);
     if (s == GrabStatus::kEndOfStream) break;
-    HULLPOSE_THROW_UNLESS(s == GrabStatus::kFrame, "camera " << config_.camera_id << ": no frame within "
-                                                             << kLearnTimeoutMs << " ms while learning the background ("
-                                                             << src.describe() << ")");
+    if (s == GrabStatus::kCorruptFrame) continue;  // logged by the source; learn from the others
+    HULLPOSE_THROW_UNLESS(s == GrabStatus::kFrame,
+                          "camera " << config_.camera_id << ": no frame within " << kLearnTimeoutMs
+                                    << " ms while learning the background (" << src.describe()
+                                    << ")");
     HULLPOSE_THROW_UNLESS(frame.image.cols == camera_.width && frame.image.rows == camera_.height,
-                          "camera " << config_.camera_id << ": background frame is " << frame.image.cols << "x"
-                                    << frame.image.rows << ", the rig says " << camera_.width << "x"
-                                    << camera_.height);
+                          "camera " << config_.camera_id << ": background frame is "
+                                    << frame.image.cols << "x" << frame.image.rows
+                                    << ", the rig says " << camera_.width << "x" << camera_.height);
     subtractor_->learn(frame.image(roi_));
     ++learnt;
   }
   HULLPOSE_THROW_UNLESS(learnt > 0, "camera " << config_.camera_id << ": no background frame from "
                                               << src.describe());
   if (learnt < config_.bgs.learn_frames) {
-    HULLPOSE_LOG(Node, Warn) << "camera " << config_.camera_id << ": learnt the background from only " << learnt
-                             << " of " << config_.bgs.learn_frames << " frames";
+    HULLPOSE_LOG(Node, Warn) << "camera " << config_.camera_id
+                             << ": learnt the background from only " << learnt << " of "
+                             << config_.bgs.learn_frames << " frames";
   }
   subtractor_->end_learning();
   if (background_source_) background_source_->stop();
@@ -128,15 +135,16 @@ GrabStatus CameraNode::capture(Frame& frame, int timeout_ms) {
   const GrabStatus s = source_->grab(frame, timeout_ms);
   last_capture_us_ = static_cast<int32_t>(timer.elapsed_us());
   if (s == GrabStatus::kTimeout) counters_.add("capture_timeout");
+  if (s == GrabStatus::kCorruptFrame) counters_.add("corrupt_frame");
   return s;
 }
 
 const cv::Mat& CameraNode::process(const Frame& frame, const TriggerStamp& stamp) {
   HULLPOSE_THROW_UNLESS(frame.image.type() == CV_8UC3 && frame.image.cols == camera_.width &&
                             frame.image.rows == camera_.height,
-                        "camera " << config_.camera_id << ": frame " << frame.sequence << " is " << frame.image.cols
-                                  << "x" << frame.image.rows << ", the rig says " << camera_.width << "x"
-                                  << camera_.height);
+                        "camera " << config_.camera_id << ": frame " << frame.sequence << " is "
+                                  << frame.image.cols << "x" << frame.image.rows
+                                  << ", the rig says " << camera_.width << "x" << camera_.height);
   StageTimer timer;
   subtractor_->apply(frame.image(roi_), roi_mask_);
   const int32_t subtract_us = static_cast<int32_t>(timer.elapsed_us());
@@ -181,7 +189,7 @@ void CameraNode::run(const std::atomic<bool>& stop_requested) {
     }
     const GrabStatus s = capture(frame, kWaitMs);
     if (s == GrabStatus::kEndOfStream) break;
-    if (s == GrabStatus::kTimeout) continue;
+    if (s == GrabStatus::kTimeout || s == GrabStatus::kCorruptFrame) continue;
     if (!trigger_) {
       stamp = TriggerStamp{frame.sequence, frame.capture_utime};
     } else if (!exposes_on_trigger) {
@@ -202,7 +210,7 @@ void CameraNode::run_free_running(const std::atomic<bool>& stop_requested) {
   for (int64_t n = 0; !stop_requested.load(std::memory_order_relaxed);) {
     const GrabStatus s = capture(frame, kWaitMs);
     if (s == GrabStatus::kEndOfStream) break;
-    if (s == GrabStatus::kTimeout) continue;
+    if (s == GrabStatus::kTimeout || s == GrabStatus::kCorruptFrame) continue;
     // The source reuses its buffer at the next grab: keep a copy until the choice is made.
     Frame& kept = held_[static_cast<size_t>(n++) % kHeldFrames];
     frame.image.copyTo(kept.image);
@@ -210,7 +218,9 @@ void CameraNode::run_free_running(const std::atomic<bool>& stop_requested) {
     kept.capture_utime = frame.capture_utime;
     trigger_->offer(kept, decided_);
     for (const auto& [sequence, stamp] : decided_) {
-      const auto it = std::find_if(held_.begin(), held_.end(), [&](const Frame& f) { return f.sequence == sequence && !f.image.empty(); });
+      const auto it = std::find_if(held_.begin(), held_.end(), [&](const Frame& f) {
+        return f.sequence == sequence && !f.image.empty();
+      });
       if (it == held_.end()) {
         counters_.add("nearest_frame_gone");  // chosen after kHeldFrames newer frames came
         continue;
@@ -231,8 +241,8 @@ void CameraNode::stop() {
     if (trigger_) trigger_->report(report);
     std::string line;
     for (const auto& [name, value] : report) line += " " + name + "=" + std::to_string(value);
-    HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": stopped after " << frames_total_
-                             << " silhouettes;" << line;
+    HULLPOSE_LOG(Node, Info) << "camera " << config_.camera_id << ": stopped after "
+                             << frames_total_ << " silhouettes;" << line;
   }
   publisher_->flush();
 }
@@ -249,7 +259,8 @@ void CameraNode::maybe_publish_status(bool force, int8_t state, const std::strin
   st.hostname = hostname();
   st.state = state;
   st.message = message;
-  st.fps = elapsed > 0 ? static_cast<float>(static_cast<double>(interval_frames_) * 1e6 / static_cast<double>(elapsed))
+  st.fps = elapsed > 0 ? static_cast<float>(static_cast<double>(interval_frames_) * 1e6 /
+                                            static_cast<double>(elapsed))
                        : 0.f;
   st.frames_total = frames_total_;
   st.last_trigger_seq = last_trigger_seq_;

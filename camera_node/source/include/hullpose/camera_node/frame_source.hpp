@@ -38,6 +38,9 @@ enum class GrabStatus {
   kFrame,        // `frame` holds a new frame
   kTimeout,      // no frame within the timeout (e.g. external trigger paused); try again
   kEndOfStream,  // a finite source (file) has no more frames
+  // This frame could not be decoded (a corrupt or truncated file): the camera has no picture of
+  // that instant and sends nothing for it; the node counts it (corrupt_frame) and goes on.
+  kCorruptFrame,
 };
 
 class FrameSource {
@@ -74,7 +77,8 @@ struct SourceContext {
   std::filesystem::path base_dir;  // relative file paths in the parameters are relative to this
 };
 
-using SourceFactory = std::function<std::unique_ptr<FrameSource>(const Params&, const SourceContext&)>;
+using SourceFactory =
+    std::function<std::unique_ptr<FrameSource>(const Params&, const SourceContext&)>;
 
 // Backends by name. builtin() holds libcamera, v4l2, file and synthetic;
 // tests may add their own.
@@ -83,7 +87,8 @@ class SourceRegistry {
   static SourceRegistry& builtin();
   void add(std::string name, SourceFactory factory);
   // Throws hullpose::Error for an unknown name (listing the known ones) or bad parameters.
-  std::unique_ptr<FrameSource> create(const std::string& name, const Params& params, const SourceContext& context) const;
+  std::unique_ptr<FrameSource> create(const std::string& name, const Params& params,
+                                      const SourceContext& context) const;
   std::vector<std::string> names() const;
 
  private:
