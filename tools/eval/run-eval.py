@@ -22,6 +22,9 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAX_FRAMES = 300
+# The real capture scored without ground truth (silhouette agreement, bone-length CV), imported
+# with hullpose-import as tools/import/README.md describes.
+CRANE = "vlasic-crane"
 BUILTIN = {"tpose": 150, "run": 150}  # static pose (jitter) and a fast periodic motion (lag)
 
 
@@ -47,6 +50,29 @@ def render(build, name, motion, frames):
     return out
 
 
+def import_crane(build, shared):
+    out = os.path.join(build, "eval", "clips", "crane")
+    if os.path.exists(os.path.join(out, ".complete")):
+        return out
+    src = os.path.join(shared, "data", "real", CRANE)
+    imp = os.path.join(build, "tools", "import", "hullpose-import")
+    if not os.path.isdir(src) or not os.path.exists(imp):
+        return None
+    print("eval: importing the crane capture", file=sys.stderr)
+    rig = os.path.join(build, "eval", "crane-rig.yaml")
+    run([imp, "rig", "--projections", os.path.join(src, "calibration", "camera{N}.P"), "--size", "1600x1200",
+         "--units", "m", "--up", "y", "--floor", "0", "--rig-id", "crane", "--out", rig])
+    run([imp, "silhouettes", "--rig", rig, "--pattern", os.path.join(src, "silhouettes", "camera{N}_{FFFF}.png"),
+         "--out", out, "--motion", CRANE])
+    open(os.path.join(out, ".complete"), "w").close()
+    return out
+
+
+def median(values):
+    v = sorted(x for x in values if x is not None)
+    return None if not v else (v[len(v) // 2] if len(v) % 2 else 0.5 * (v[len(v) // 2 - 1] + v[len(v) // 2]))
+
+
 def read_rows(path, valid_only):
     rows = {}
     with open(path) as f:
@@ -57,9 +83,11 @@ def read_rows(path, valid_only):
     return rows
 
 
-def jitter_rms(est_csv):
-    """RMS deviation of every joint from its mean over the valid frames (mm): a still subject."""
-    rows = list(read_rows(est_csv, True).values())
+def jitter_rms(est_csv, settle_frames=60):
+    """RMS deviation of every joint from its mean over the valid frames (mm): a still subject.
+    The first settle_frames (2 s at 30 fps: the body model's convergence window, BodyModelParams)
+    are left out: the model settling is not jitter."""
+    rows = [r for f, r in sorted(read_rows(est_csv, True).items()) if f >= settle_frames]
     if len(rows) < 2:
         return None
     n = len(rows[0]) // 3
@@ -135,6 +163,25 @@ def main():
                 if name == "run":
                     line["lag_frames"] = lag_frames(os.path.join(data, "ground_truth.csv"), est)
                 results.append(line)
+    crane = import_crane(build, shared) if not a.clips or "crane" in a.clips.split(",") else None
+    crane_rows = []
+    if crane:
+        for res in a.res.split(","):
+            for pose in a.pose.split(","):
+                est = os.path.join(outdir, f"crane_{res}_{pose}.csv")
+                print(f"eval: crane {res} {pose}", file=sys.stderr)
+                summary = json.loads(run([host, "--replay", crane, "--out", est, "--resolution", res,
+                                          "--pose", pose]).stdout.strip().splitlines()[-1])
+                c = json.loads(run([evaluate, "--gt", crane, "--est", est, "--json"]).stdout)
+                crane_rows.append({"name": f"eval/crane/{res}/{pose}", "clip": "crane", "resolution": int(res),
+                                   "pose": pose, "frames": c["frames"], "valid_pct": c["valid_pct"],
+                                   "inside_all_views_pct": c["inside_all_views_pct"],
+                                   "frames_inside_n_minus_1_pct": c["frames_inside_n_minus_1_pct"],
+                                   "bone_length_cv_median_pct": None if median(c["bone_length_cv"].values()) is None
+                                   else 100 * median(c["bone_length_cv"].values()),
+                                   "pose_median_ms": summary["median_ms"]["tree"] + summary["median_ms"]["fit"]})
+    elif not a.clips:
+        print("eval: crane skipped (no ../shared/data/real/vlasic-crane or no hullpose-import)", file=sys.stderr)
     fmt = lambda v, d=1: "-" if v is None else f"{v:.{d}f}"
     print("| clip | res | pose | in-vol frames | out-of-vol (flagged) | valid % | MPJPE mm | hands+feet mm | "
           "L/R % | stature err % | pose ms | jitter mm | lag frames |")
@@ -144,6 +191,15 @@ def main():
               f"({r['out_of_volume_invalid']}) | {fmt(r['valid_pct'])} | {fmt(r['mpjpe_mm'])} | "
               f"{fmt(r['hands_feet_mm'])} | {fmt(r['lr_correct_pct'])} | {fmt(r['stature_error_pct'])} | "
               f"{fmt(r['pose_median_ms'], 3)} | {fmt(r.get('jitter_rms_mm'))} | {r.get('lag_frames', '-')} |")
+    if crane_rows:
+        print("\n| real capture | res | pose | frames | valid % | bone points inside every view % | "
+              "frames with all inside >= n-1 views % | median bone-length CV % | pose ms |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for r in crane_rows:
+            print(f"| crane | {r['resolution']} | {r['pose']} | {r['frames']} | {fmt(r['valid_pct'])} | "
+                  f"{fmt(r['inside_all_views_pct'])} | {fmt(r['frames_inside_n_minus_1_pct'])} | "
+                  f"{fmt(r['bone_length_cv_median_pct'], 2)} | {fmt(r['pose_median_ms'], 3)} |")
+    results += crane_rows
     with open(os.path.join(build, "eval", "results.jsonl"), "w") as f:
         for r in results:
             print(json.dumps(r))

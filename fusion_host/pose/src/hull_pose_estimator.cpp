@@ -9,7 +9,13 @@
 namespace hullpose::pose {
 namespace {
 using Msg = hullpose_msg::skeleton_t;
+
+double mean_displacement(const JointPositions& a, const JointPositions& b) {
+  double sum = 0;
+  for (int j = 0; j < kNumJoints; ++j) sum += (a[j] - b[j]).norm();
+  return sum / kNumJoints;
 }
+}  // namespace
 
 PoseMode parse_pose_mode(const std::string& value, const char* what) {
   if (value == "bottom-up") return PoseMode::kBottomUp;
@@ -59,10 +65,11 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   reacquired_ = false;
   out_ = det;  // reason, detail, timings of the bottom-up path; overwritten below when tracking
   surface_.extract(hull, grid);  // nullptr: no surface
-  if (!body_.started()) {
-    if (!det.valid) return out_;
-    body_.reset(det.stature_mm);
-  }
+  // The body model starts at the bottom-up path's running stature, restarting on each valid
+  // frame until that median has settled (one frame's stature can be far off).
+  const bool settling = bottom_up_.stature_frames() <= params_.bottom_up.stature_settle_frames;
+  if (det.valid && (!body_.started() || settling)) body_.reset(det.stature_mm);
+  if (!body_.started()) return out_;
   if (!tracker_.active()) {
     if (!det.valid) {
       out_.fit_us += timer.elapsed_us();
@@ -75,10 +82,12 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
   const bool have_median = score_count_ >= 8;
   ++frames_since_check_;
+  bool candidate_tried = false;
   if (detected != nullptr && !reacquired_ &&
       (!have_median || r->score.value() < a.check_fraction * median_score_ ||
        frames_since_check_ >= a.check_every)) {
     frames_since_check_ = 0;
+    candidate_tried = true;
     if (try_candidate(*detected, r->score.value())) {
       reacquired_ = true;
       r = &tracker_.result();
@@ -87,13 +96,40 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   score_ = r->score.value();
   const double floor = have_median ? a.valid_fraction * median_score_ : a.min_score;
   const bool cut_off = surface_.touches_edge();
-  const bool good = !surface_.empty() && score_ >= std::max(floor, 0.0) && !cut_off;
-  if (good || (reacquired_ && det.valid)) median_score_ = running_score(score_);
-  if (good && score_ >= a.model_fraction * median_score_) body_.add(r->length_ratio, r->radius_mm);
+  const bool tracked_ok = !surface_.empty() && score_ >= std::max(floor, 0.0) && !cut_off;
+  // The bottom-up path's acceptance stands: when the tracked pose no longer explains the hull
+  // and a valid detection exists, the tracker was lost: it restarts from the detection, refined
+  // on the hull. Tracking adds frames the bottom-up path misses; it never vetoes one it reads.
+  if (!tracked_ok && detected != nullptr && !reacquired_) {
+    if (!candidate_tried) {
+      candidate_.start(*detected);
+      candidate_.track(surface_, body_.model(), {detected});
+    }
+    tracker_ = candidate_;
+    r = &tracker_.result();
+    reacquired_ = true;
+    score_ = r->score.value();
+  }
+  const bool good = tracked_ok || det.valid;
+  // The score's typical level follows the motion (a cartwheel explains its hull less well than
+  // standing): every published frame counts.
+  if (good) median_score_ = running_score(score_);
+  // The body model learns from confident frames only: the tracked pose explains the hull as well
+  // as usual and the independent bottom-up reading agrees with it.
+  const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <
+                                                a.model_agree_ratio * body_.model().stature_mm();
+  if (tracked_ok && agree && score_ >= a.model_fraction * median_score_)
+    body_.add(r->length_ratio, r->radius_mm);
 
+  // A re-acquisition that moves the pose as far as paper 6's jump threshold starts the filter
+  // afresh (smoothing across it would drag the old pose along); a smaller one is smoothed.
+  const bool jumped =
+      has_output_ && mean_displacement(r->joints, last_output_) > params_.bottom_up.jump_mean_mm;
   out_.joints_mm = r->joints;
-  if (reacquired_) filter_.reset();
+  if (jumped) filter_.reset();
   filter_.apply(out_.joints_mm, a.frame_s);
+  last_output_ = out_.joints_mm;
+  has_output_ = true;
   out_.confidence = r->confidence;
   out_.has_pose = true;
   out_.stature_mm = body_.model().stature_mm();

@@ -41,8 +41,11 @@ struct ArbiterParams {
   double switch_margin = 0.02;
   // Without a median yet (acquisition), a score must reach this absolute floor.
   double min_score = 0.5;
-  // Body-model measurements come from frames scoring at least this fraction of the median.
+  // Body-model measurements come from frames scoring at least this fraction of the median whose
+  // bottom-up pose lies within model_agree_ratio statures of the tracked one (mean joint
+  // distance; the two differ by ~30 mm on a good frame from the proportions alone).
   double model_fraction = 1.0;
+  double model_agree_ratio = 0.04;
   double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
 };
 
@@ -83,6 +86,8 @@ class HullPoseEstimator {
   OneEuroFilter filter_;
   PoseEstimate out_;
   bool reacquired_ = false;
+  JointPositions last_output_{};
+  bool has_output_ = false;
   double score_ = 0, median_score_ = 0;
   int frames_since_check_ = 0;
   std::array<double, kScoreWindow> score_ring_{}, score_scratch_{};

@@ -56,6 +56,8 @@ class PoseEstimator {
   const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid);
   const PoseEstimate& last() const { return out_; }
   const LabelledTree& tree() const { return builder_.tree(); }
+  // Valid frames in the running stature (it is settled from params.stature_settle_frames on).
+  int stature_frames() const { return stature_count_; }
   void reset();
 
  private:
