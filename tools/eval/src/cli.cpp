@@ -89,6 +89,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return 2;
   }
   try {
+    HULLPOSE_THROW_UNLESS(std::filesystem::is_directory(o.gt), o.gt << ": not a dataset directory");
     if (!std::filesystem::exists(DatasetPaths(o.gt).ground_truth())) return run_consistency(o, out);
     const EvalResult result = evaluate_files(o.gt, o.est);
     const ReportSource source{o.gt, o.est, read_meta(DatasetPaths(o.gt).meta()).motion};
