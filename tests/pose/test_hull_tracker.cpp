@@ -132,7 +132,8 @@ TEST_CASE("One Euro: a still joint is smoothed, a moving one lags less than a fr
   const double dt = 1.0 / 30;
   double lag_mm = 0;
   for (int f = 0; f < 300; ++f) {
-    std::array<Eigen::Vector3d, 1> still{Eigen::Vector3d(noise(rng), noise(rng), noise(rng))};
+    const double nx = noise(rng), ny = noise(rng), nz = noise(rng);  // named: a defined order
+    std::array<Eigen::Vector3d, 1> still{Eigen::Vector3d(nx, ny, nz)};
     raw += still[0].squaredNorm();
     still_filter.apply(still, dt);
     if (f >= 30) filtered += still[0].squaredNorm();

@@ -72,7 +72,10 @@ TEST_CASE(
     hull.reset(g.dims);
     std::vector<Eigen::Vector3i> skeleton;
     for (int n = 0; n < 200; ++n) {
-      const Eigen::Vector3i v(coord(rng), coord(rng), coord(rng));
+      // Named draws: argument evaluation order is unspecified (it differs between arm64 and
+      // x86-64).
+      const int x = coord(rng), y = coord(rng), z = coord(rng);
+      const Eigen::Vector3i v(x, y, z);
       skeleton.push_back(v);
       for (int dz = 0; dz < 3; ++dz)
         for (int dy = 0; dy < 3; ++dy)
