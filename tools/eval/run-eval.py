@@ -141,15 +141,20 @@ def main():
     outdir = os.path.join(build, "eval", "runs")
     os.makedirs(outdir, exist_ok=True)
     results = []
+
+    def replay_and_score(name, data, res, pose):
+        """The estimate file, the replay's summary and hullpose-eval's JSON for one run."""
+        est = os.path.join(outdir, f"{name}_{res}_{pose}.csv")
+        print(f"eval: {name} {res} {pose}", file=sys.stderr)
+        summary = json.loads(run([host, "--replay", data, "--out", est, "--resolution", res,
+                                  "--pose", pose]).stdout.strip().splitlines()[-1])
+        return est, summary, json.loads(run([evaluate, "--gt", data, "--est", est, "--json"]).stdout)
+
     for name, (motion, frames) in clips.items():
         data = render(build, name, motion, frames)
         for res in a.res.split(","):
             for pose in a.pose.split(","):
-                est = os.path.join(outdir, f"{name}_{res}_{pose}.csv")
-                print(f"eval: {name} {res} {pose}", file=sys.stderr)
-                summary = json.loads(run([host, "--replay", data, "--out", est, "--resolution", res,
-                                          "--pose", pose]).stdout.strip().splitlines()[-1])
-                e = json.loads(run([evaluate, "--gt", data, "--est", est, "--json"]).stdout)
+                est, summary, e = replay_and_score(name, data, res, pose)
                 line = {"name": f"eval/{name}/{res}/{pose}", "clip": name, "resolution": int(res), "pose": pose,
                         "frames": e["frames"], "out_of_volume_frames": e["out_of_volume_frames"],
                         "out_of_volume_invalid": e["out_of_volume_invalid"],
@@ -168,11 +173,7 @@ def main():
     if crane:
         for res in a.res.split(","):
             for pose in a.pose.split(","):
-                est = os.path.join(outdir, f"crane_{res}_{pose}.csv")
-                print(f"eval: crane {res} {pose}", file=sys.stderr)
-                summary = json.loads(run([host, "--replay", crane, "--out", est, "--resolution", res,
-                                          "--pose", pose]).stdout.strip().splitlines()[-1])
-                c = json.loads(run([evaluate, "--gt", crane, "--est", est, "--json"]).stdout)
+                est, summary, c = replay_and_score("crane", crane, res, pose)
                 crane_rows.append({"name": f"eval/crane/{res}/{pose}", "clip": "crane", "resolution": int(res),
                                    "pose": pose, "frames": c["frames"], "valid_pct": c["valid_pct"],
                                    "inside_all_views_pct": c["inside_all_views_pct"],

@@ -9,12 +9,6 @@
 namespace hullpose::pose {
 namespace {
 using Msg = hullpose_msg::skeleton_t;
-
-double mean_displacement(const JointPositions& a, const JointPositions& b) {
-  double sum = 0;
-  for (int j = 0; j < kNumJoints; ++j) sum += (a[j] - b[j]).norm();
-  return sum / kNumJoints;
-}
 }  // namespace
 
 PoseMode parse_pose_mode(const std::string& value, const char* what) {
@@ -31,16 +25,6 @@ HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
       candidate_(params.track),
       body_(params.body),
       filter_(params.filter) {}
-
-double HullPoseEstimator::running_score(double s) {
-  score_ring_[score_next_] = s;
-  score_next_ = (score_next_ + 1) % kScoreWindow;
-  score_count_ = std::min(score_count_ + 1, kScoreWindow);
-  std::copy_n(score_ring_.begin(), score_count_, score_scratch_.begin());
-  const auto mid = score_scratch_.begin() + score_count_ / 2;
-  std::nth_element(score_scratch_.begin(), mid, score_scratch_.begin() + score_count_);
-  return *mid;
-}
 
 // Tracks from the bottom-up pose on a second tracker; takes it over when it explains the hull
 // clearly better than the tracked pose.
@@ -80,7 +64,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   }
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
-  const bool have_median = score_count_ >= 8;
+  const bool have_median = score_median_.count() >= 8;
   ++frames_since_check_;
   bool candidate_tried = false;
   if (detected != nullptr && !reacquired_ &&
@@ -113,7 +97,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const bool good = tracked_ok || det.valid;
   // The score's typical level follows the motion (a cartwheel explains its hull less well than
   // standing): every published frame counts.
-  if (good) median_score_ = running_score(score_);
+  if (good) median_score_ = score_median_.add(score_);
   // The body model learns from confident frames only: the tracked pose explains the hull as well
   // as usual and the independent bottom-up reading agrees with it.
   const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <

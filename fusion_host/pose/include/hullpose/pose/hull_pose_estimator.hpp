@@ -76,7 +76,6 @@ class HullPoseEstimator {
 
  private:
   bool try_candidate(const JointPositions& detected, double tracked_score);
-  double running_score(double s);
 
   HullPoseParams params_;
   PoseEstimator bottom_up_;
@@ -90,8 +89,7 @@ class HullPoseEstimator {
   bool has_output_ = false;
   double score_ = 0, median_score_ = 0;
   int frames_since_check_ = 0;
-  std::array<double, kScoreWindow> score_ring_{}, score_scratch_{};
-  int score_count_ = 0, score_next_ = 0;
+  RunningMedian<kScoreWindow> score_median_;
 };
 
 }  // namespace hullpose::pose

@@ -21,6 +21,13 @@ namespace hullpose::pose {
 
 using JointPositions = std::array<Eigen::Vector3d, kNumJoints>;
 
+// Mean distance between corresponding joints (mm): paper 6's pose-jump measure.
+inline double mean_displacement(const JointPositions& a, const JointPositions& b) {
+  double sum = 0;
+  for (int j = 0; j < kNumJoints; ++j) sum += (a[j] - b[j]).norm();
+  return sum / kNumJoints;
+}
+
 struct ShakeParams {
   int max_iterations = 60;        // outer iterations (pseudo-constraint step + bone sweeps)
   int sweeps_per_iteration = 3;
