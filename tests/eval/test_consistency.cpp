@@ -84,8 +84,8 @@ TEST_CASE("hullpose-eval scores against the silhouettes when the dataset has no 
                     report = (out.path / "report").string();
   const char* argv[] = {"hullpose-eval", "--gt",     gt.c_str(),     "--est",
                         est.c_str(),     "--report", report.c_str(), "--json"};
-  std::ostringstream o, e;
-  REQUIRE(run_cli(8, argv, o, e) == 0);
+  std::ostringstream o;
+  REQUIRE(run_cli(8, argv, o) == 0);
   CHECK_THAT(o.str(), Catch::Contains("\"mode\":\"consistency\"") &&
                           Catch::Contains("\"inside_all_views_pct\":100.0"));
   CHECK(fs::exists(out.path / "report" / "report.html"));

@@ -38,7 +38,7 @@ constexpr const char* kUsage =
     "    [--pose bottom-up|track]\n";
 
 // Empty when --help was asked for.
-std::optional<Options> parse(int argc, char** argv) {
+std::optional<Options> parse(int argc, const char* const* argv, const char* tool) {
   Options o;
   AssemblerConfig& a = o.service.assembler;
   const auto ms_to_us = [](int64_t& out, const char* name) {
@@ -46,7 +46,7 @@ std::optional<Options> parse(int argc, char** argv) {
       out = static_cast<int64_t>(cli::parse_double(name, v) * 1000);
     };
   };
-  cli::CommandLine cl(kUsage);
+  cli::CommandLine cl(std::string("usage: ") + tool + kUsage);
   cl.option("--rig", o.rig_file)
       .option("--lcm-url", o.lcm_url)
       .option("--min-cameras", a.min_cameras)
@@ -76,40 +76,29 @@ std::optional<Options> parse(int argc, char** argv) {
 }  // namespace
 
 int service_main(
-    int argc, char** argv, const char* tool,
+    int argc, const char* const* argv, const char* tool,
     const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>&
         make_pipeline) {
-  try {
-    if (const char* spec = std::getenv("HULLPOSE_LOG")) log::set_levels(spec);
-    const std::optional<Options> parsed = parse(argc, argv);
-    if (!parsed) {
-      std::printf("usage: %s%s", tool, kUsage);
-      return 0;
-    }
-    const Options& o = *parsed;
-    const Rig rig = load_rig(o.rig_file);
-    lcm::LCM bus(o.lcm_url);
-    HULLPOSE_THROW_UNLESS(
-        bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
-    auto pipeline = make_pipeline(rig, o.pipeline);
-    FusionService service(bus, rig, *pipeline, o.service);
-    if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
-    const int64_t end =
-        o.duration_s > 0 ? monotonic_us() + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
-    service.run([&] { return !g_stop && monotonic_us() < end; });
-    std::fprintf(stderr, "%s: %lld skeletons published;", tool,
-                 static_cast<long long>(service.skeletons_published()));
-    for (const Counters* c : {&service.assembler().counters(), &service.counters()})
-      for (const auto& [name, value] : c->snapshot())
-        std::fprintf(stderr, " %s=%lld", name.c_str(), static_cast<long long>(value));
-    std::fprintf(stderr, "\n");
-    return 0;
-  } catch (const Error& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
-    return 2;
-  }
+  const std::optional<Options> parsed = parse(argc, argv, tool);
+  if (!parsed) return 0;
+  const Options& o = *parsed;
+  const Rig rig = load_rig(o.rig_file);
+  const std::unique_ptr<bus::Bus> bus = bus::open_bus(o.lcm_url);
+  auto pipeline = make_pipeline(rig, o.pipeline);
+  FusionService service(*bus, system_clock(), rig, *pipeline, o.service);
+  if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const int64_t end =
+      o.duration_s > 0 ? monotonic_us() + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
+  service.run([&] { return !g_stop && monotonic_us() < end; });
+  std::fprintf(stderr, "%s: %lld skeletons published;", tool,
+               static_cast<long long>(service.skeletons_published()));
+  for (const Counters* c : {&service.assembler().counters(), &service.counters()})
+    for (const auto& [name, value] : c->snapshot())
+      std::fprintf(stderr, " %s=%lld", name.c_str(), static_cast<long long>(value));
+  std::fprintf(stderr, "\n");
+  return 0;
 }
 
 }  // namespace hullpose::fusion

@@ -34,7 +34,7 @@ struct Options {
 };
 
 // Empty when --help was asked for.
-std::optional<Options> parse(int argc, const char* const* argv) {
+std::optional<Options> parse(int argc, const char* const* argv, std::ostream& out) {
   Options o;
   cli::CommandLine cl(kUsage);
   cl.option("--gt", o.gt)
@@ -51,7 +51,7 @@ std::optional<Options> parse(int argc, const char* const* argv) {
           start = comma + 1;
         }
       });
-  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (!cl.parse(argc, argv, out)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(!o.gt.empty(), "--gt DIR is required");
   HULLPOSE_THROW_UNLESS(!o.est.empty(), "--est FILE is required");
   return o;
@@ -75,38 +75,24 @@ int run_consistency(const Options& o, std::ostream& out) {
 
 }  // namespace
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  Options o;
-  try {
-    const std::optional<Options> parsed = parse(argc, argv);
-    if (!parsed) {
-      out << kUsage;
-      return 0;
-    }
-    o = *parsed;
-  } catch (const Error& e) {
-    err << "hullpose-eval: error: " << e.what() << '\n' << kUsage;
-    return 2;
+int run_cli(int argc, const char* const* argv, std::ostream& out) {
+  const std::optional<Options> parsed = parse(argc, argv, out);
+  if (!parsed) return 0;
+  const Options& o = *parsed;
+  HULLPOSE_THROW_UNLESS(std::filesystem::is_directory(o.gt), o.gt << ": not a dataset directory");
+  if (!std::filesystem::exists(DatasetPaths(o.gt).ground_truth())) return run_consistency(o, out);
+  const EvalResult result = evaluate_files(o.gt, o.est);
+  const ReportSource source{o.gt, o.est, read_meta(DatasetPaths(o.gt).meta()).motion};
+  if (o.json)
+    write_json(out, result);
+  else
+    write_table(out, result, source);
+  if (!o.report.empty()) {
+    const auto path = write_html_report(o.report, result, source);
+    write_per_frame_csv(std::filesystem::path(o.report) / "per_frame.csv", result);
+    if (!o.json) out << "\nreport: " << path.string() << '\n';
   }
-  try {
-    HULLPOSE_THROW_UNLESS(std::filesystem::is_directory(o.gt), o.gt << ": not a dataset directory");
-    if (!std::filesystem::exists(DatasetPaths(o.gt).ground_truth())) return run_consistency(o, out);
-    const EvalResult result = evaluate_files(o.gt, o.est);
-    const ReportSource source{o.gt, o.est, read_meta(DatasetPaths(o.gt).meta()).motion};
-    if (o.json)
-      write_json(out, result);
-    else
-      write_table(out, result, source);
-    if (!o.report.empty()) {
-      const auto path = write_html_report(o.report, result, source);
-      write_per_frame_csv(std::filesystem::path(o.report) / "per_frame.csv", result);
-      if (!o.json) out << "\nreport: " << path.string() << '\n';
-    }
-    return 0;
-  } catch (const Error& e) {
-    err << "hullpose-eval: error: " << e.what() << '\n';
-    return 2;
-  }
+  return 0;
 }
 
 }  // namespace hullpose::eval

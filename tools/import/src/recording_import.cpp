@@ -5,6 +5,7 @@
 
 #include "hullpose/camera_node/camera_node.hpp"
 #include "hullpose/camera_node/node_config.hpp"
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/dataset.hpp"
 
@@ -18,11 +19,13 @@ RecordingImport import_recordings(const RecordingImportOptions& o) {
   RecordingImport out;
   std::optional<Rig> rig;
   std::vector<int> ids;
+  // One in-process bus for every node: nothing leaves the process.
+  const std::unique_ptr<bus::Bus> bus = bus::open_bus("memq://");
   for (const std::filesystem::path& file : o.node_configs) {
     camera_node::NodeConfig config = camera_node::load_node_config(file);
-    config.lcm.url = "memq://";      // nothing leaves the process
+    config.lcm.url = "memq://";
     config.trigger.enabled = false;  // frame k of the recording is instant k
-    camera_node::CameraNode node(std::move(config));
+    camera_node::CameraNode node(std::move(config), *bus);
     if (!rig) {
       rig = node.rig();
       save_rig(*rig, paths.rig());
