@@ -12,7 +12,7 @@ SOAK_MINUTES ?= 10
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench fuzz soak format format-check clean package cross
+.PHONY: all deps configure build test test-asan test-gpu demo bench eval fuzz soak format format-check clean package cross
 
 all: build
 
@@ -45,6 +45,10 @@ demo: build
 
 bench: build
 	@tools/bench/run-bench.sh $(BUILD)
+
+# Pose accuracy on every shared clip, both pose paths, 64^3 and 128^3 (tools/eval/run-eval.py).
+eval: build
+	@tools/eval/run-eval.py $(BUILD)
 
 # FUZZ_RUNS=N stops each target at N executions (or FUZZ_SECONDS, if sooner); FUZZ_JOBS=N in parallel.
 fuzz: deps

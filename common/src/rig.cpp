@@ -1,15 +1,25 @@
 #include "hullpose/common/rig.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <set>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/log.hpp"
 #include "hullpose/common/yaml.hpp"
 
 namespace hullpose {
+
+HULLPOSE_LOG_CATEGORY(RigFile, "rig")
+
 namespace {
+
+double orthonormality_error(const Eigen::Matrix3d& R) {
+  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+}
+
 
 bool finite(double v) {
   return std::isfinite(v);
@@ -37,13 +47,23 @@ void validate_camera(const CameraModel& c) {
     HULLPOSE_THROW_UNLESS(finite(c.dist[i]), where(c) << ": dist[" << i << "] is not finite");
   HULLPOSE_THROW_UNLESS(all_finite(c.R), where(c) << ": R has a non-finite entry");
   HULLPOSE_THROW_UNLESS(all_finite(c.t), where(c) << ": t has a non-finite entry");
-  const double orth = (c.R.transpose() * c.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double orth = orthonormality_error(c.R);
   HULLPOSE_THROW_UNLESS(orth < 1e-6 && c.R.determinant() > 0,
                         where(c) << ": R is not a rotation (|R^T R - I| = " << orth
                                  << ", det = " << c.R.determinant() << ")");
 }
 
 }  // namespace
+
+double repair_rotation(Eigen::Matrix3d& R) {
+  const double deviation = orthonormality_error(R);
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
+      R.determinant() <= 0)
+    return 0;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  return deviation;
+}
 
 const CameraModel* Rig::find(int camera_id) const {
   for (const auto& c : cameras)
@@ -98,6 +118,11 @@ Rig load_rig(const std::filesystem::path& path) {
     std::copy(d.begin(), d.end(), c.dist.begin());
     const auto r = node.need("R").reals(9);
     c.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
+    if (const double deviation = repair_rotation(c.R); deviation > 0) {
+      HULLPOSE_LOG(RigFile, Warn) << file << ": camera " << c.id << ": R is off orthonormal by "
+                                  << deviation
+                                  << " (max |R^T R - I|), replaced by the nearest rotation";
+    }
     const auto t = node.need("t_mm").reals(3);
     c.t = Eigen::Vector3d(t[0], t[1], t[2]);
     rig.cameras.push_back(std::move(c));

@@ -28,15 +28,22 @@ class JsonLinesReporter : public benchmark::BenchmarkReporter {
       const bool single = run.run_type == Run::RT_Iteration && run.repetitions <= 1;
       if (!median && !single) continue;
       if (run.error_occurred) {
-        std::printf("{\"name\": \"%s\", \"error\": \"%s\"}\n", json_escape(run.run_name.str()).c_str(),
+        std::printf("{\"name\": \"%s\", \"error\": \"%s\"}\n",
+                    json_escape(run.run_name.str()).c_str(),
                     json_escape(run.error_message).c_str());
         continue;
       }
-      const double ms = run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
-      std::string line = "{\"name\": \"" + json_escape(run.run_name.str()) + "\", \"median_ms\": " + fmt(ms) +
+      const double ms =
+          run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
+      // cpu_ms: this thread's CPU time, the figure to read on a shared, loaded machine.
+      const double cpu_ms =
+          run.GetAdjustedCPUTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
+      std::string line = "{\"name\": \"" + json_escape(run.run_name.str()) +
+                         "\", \"median_ms\": " + fmt(ms) + ", \"cpu_ms\": " + fmt(cpu_ms) +
                          (median ? ", \"repetitions\": " + std::to_string(run.repetitions)
                                  : ", \"iterations\": " + std::to_string(run.iterations));
-      for (const auto& [key, counter] : run.counters) line += ", \"" + json_escape(key) + "\": " + fmt(counter.value);
+      for (const auto& [key, counter] : run.counters)
+        line += ", \"" + json_escape(key) + "\": " + fmt(counter.value);
       if (run.report_label.rfind("peer=", 0) == 0)
         line += ", \"peer\": \"" + json_escape(run.report_label.substr(5)) + "\"";
       else if (!run.report_label.empty())

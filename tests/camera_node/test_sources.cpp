@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "hullpose/camera_node/frame_source.hpp"
 #include "hullpose/camera_node/synthetic_source.hpp"
@@ -41,8 +43,10 @@ TEST_CASE("the registry knows the built-in backends and names unknown ones") {
   CHECK(std::find(names.begin(), names.end(), "libcamera") != names.end());
   CHECK(std::find(names.begin(), names.end(), "v4l2") != names.end());
   CHECK(std::find(names.begin(), names.end(), "file") != names.end());
-  CHECK_THROWS_WITH(SourceRegistry::builtin().create("gige", Params("cam.yaml: source"), context(64, 48)),
-                    Catch::Contains("cam.yaml: source.type: unknown source 'gige' (known: libcamera, v4l2, file"));
+  CHECK_THROWS_WITH(
+      SourceRegistry::builtin().create("gige", Params("cam.yaml: source"), context(64, 48)),
+      Catch::Contains(
+          "cam.yaml: source.type: unknown source 'gige' (known: libcamera, v4l2, file"));
   Params typo("cam.yaml: source");
   typo.set("path", "x_%d.png");
   typo.set("fsp", "30");
@@ -86,7 +90,9 @@ TEST_CASE("a triggered file source shows the frame of the trigger's sequence") {
   REQUIRE(src->triggerable());
   src->start();
   Frame f;
-  const auto shows = [&](int k) { return cv::norm(f.image, cv::imread(test::indexed(dir / "cam2", "rgb", k)), cv::NORM_INF) == 0; };
+  const auto shows = [&](int k) {
+    return cv::norm(f.image, cv::imread(test::indexed(dir / "cam2", "rgb", k)), cv::NORM_INF) == 0;
+  };
   src->expose(2, 777);
   REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
   CHECK(shows(2));
@@ -136,8 +142,10 @@ TEST_CASE("a missing V4L2 device gives an error naming the device and what was t
   Params p("source");
   p.set("device", "/dev/video-hullpose-absent");
   auto src = SourceRegistry::builtin().create("v4l2", p, context(640, 480));
-  CHECK_THROWS_WITH(src->start(), Catch::Contains("camera 2: v4l2 device /dev/video-hullpose-absent: cannot open") &&
-                                      Catch::Contains("tried open(2)"));
+  CHECK_THROWS_WITH(
+      src->start(),
+      Catch::Contains("camera 2: v4l2 device /dev/video-hullpose-absent: cannot open") &&
+          Catch::Contains("tried open(2)"));
   src->stop();  // harmless after a failed start
   Params bad("source");
   bad.set("pixel_format", "H264");
@@ -201,11 +209,91 @@ TEST_CASE("the synthetic source renders this camera's view of the synthetic rig"
   REQUIRE(triggered->grab(f, 0) == GrabStatus::kFrame);
   CHECK(f.capture_utime == 123);
   src->start();
-  for (int i = 0; i < 4; ++i) REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);  // 2 empty + motion 0, 1
-  CHECK(cv::countNonZero(dynamic_cast<SyntheticSource&>(*triggered).truth() != synthetic->truth()) == 0);
+  for (int i = 0; i < 4; ++i)
+    REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);  // 2 empty + motion 0, 1
+  CHECK(cv::countNonZero(dynamic_cast<SyntheticSource&>(*triggered).truth() !=
+                         synthetic->truth()) == 0);
 
   Params bad("cam.yaml: source");
   bad.set("motion", "moonwalk");
   auto unknown = SourceRegistry::builtin().create("synthetic", bad, c);
   CHECK_THROWS_WITH(unknown->start(), Catch::Contains("moonwalk"));
+}
+
+TEST_CASE(
+    "file source plays video files frame-exactly on triggers; corrupt frames are reported, not "
+    "thrown") {
+  const fs::path dir = fs::temp_directory_path() / "hullpose_test_video";
+  fs::create_directories(dir);
+  // 12 frames whose grey level encodes the index, MJPG in AVI (OpenCV's FFmpeg backend).
+  const std::string video = (dir / "clip.avi").string();
+  {
+    cv::VideoWriter w(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 25, cv::Size(64, 48));
+    REQUIRE(w.isOpened());
+    for (int i = 0; i < 12; ++i) w.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * i)));
+  }
+  Params p("source");
+  p.set("path", video);
+  auto src = SourceRegistry::builtin().create("file", p, context(64, 48));
+  src->start();
+  Frame f;
+  auto level = [&] { return cv::mean(f.image)[0] / 20; };
+  REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(level() == Approx(0).margin(0.2));
+  for (int seq : {7, 8, 3, 11}) {  // forward, next, backward, last
+    src->expose(seq, 1000 + seq);
+    REQUIRE(src->grab(f, 0) == GrabStatus::kFrame);
+    CHECK(level() == Approx(seq).margin(0.2));
+    CHECK(f.capture_utime == 1000 + seq);
+  }
+  CHECK(src->grab(f, 0) == GrabStatus::kEndOfStream);
+  src->stop();
+
+  // A truncated video (its index gone) and a damaged one (bytes overwritten mid-file): either the
+  // file is refused at start() naming it (exit 2 in the node), or what decodes plays and the rest
+  // is corrupt frames or the end, never a throw or a hang.
+  fs::copy_file(video, dir / "cut.avi", fs::copy_options::overwrite_existing);
+  fs::resize_file(dir / "cut.avi", fs::file_size(video) * 9 / 10);
+  fs::copy_file(video, dir / "damaged.avi", fs::copy_options::overwrite_existing);
+  {
+    std::fstream d(dir / "damaged.avi", std::ios::in | std::ios::out | std::ios::binary);
+    d.seekp(static_cast<std::streamoff>(fs::file_size(video) / 2));
+    d << std::string(600, '\xff');
+  }
+  for (const char* name : {"cut.avi", "damaged.avi"}) {
+    INFO(name);
+    p.set("path", (dir / name).string());
+    auto bad = SourceRegistry::builtin().create("file", p, context(64, 48));
+    try {
+      bad->start();
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains(name));
+      continue;
+    }
+    int frames = 0, corrupt = 0, calls = 0;
+    for (GrabStatus s; (s = bad->grab(f, 0)) != GrabStatus::kEndOfStream && calls < 100; ++calls)
+      (s == GrabStatus::kFrame ? frames : corrupt) += 1;
+    CHECK(calls < 100);
+    CHECK(frames + corrupt <= 12);
+    CHECK(frames >= 3);
+    if (std::string_view(name) == "cut.avi")
+      CHECK(corrupt > 0);  // the frames past the cut: 9 + 3 here
+  }
+
+  // An image sequence with an undecodable file in the middle: that frame is corrupt, the next
+  // plays.
+  for (int i = 0; i < 3; ++i)
+    cv::imwrite((dir / ("f_" + std::to_string(i) + ".png")).string(),
+                cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * i)));
+  std::ofstream(dir / "f_1.png", std::ios::trunc) << "not a png";
+  p.set("path", (dir / "f_%d.png").string());
+  auto seq = SourceRegistry::builtin().create("file", p, context(64, 48));
+  seq->start();
+  CHECK(seq->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(seq->grab(f, 0) == GrabStatus::kCorruptFrame);
+  REQUIRE(seq->grab(f, 0) == GrabStatus::kFrame);
+  CHECK(level() == Approx(2).margin(0.2));
+  CHECK(f.sequence == 2);
+  CHECK(seq->grab(f, 0) == GrabStatus::kEndOfStream);
+  fs::remove_all(dir);
 }

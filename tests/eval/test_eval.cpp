@@ -421,3 +421,37 @@ TEST_CASE("bad input gets a clear error naming the file") {
   fs::remove(DatasetPaths(ds).meta());
   expect({"--gt", ds.string(), "--est", est.string()}, "meta.json: not found");
 }
+
+TEST_CASE("frames whose true body leaves the capture volume are counted apart") {
+  const auto truth = walking_truth(kFrames, kStature);
+  // The walk goes along -y: a volume that holds its first half only.
+  double min_y = 1e9, max_y = -1e9;
+  for (const auto& rec : truth)
+    for (const auto& p : rec.joints) {
+      min_y = std::min(min_y, p.y());
+      max_y = std::max(max_y, p.y());
+    }
+  CaptureVolume v;
+  v.min_mm = Eigen::Vector3d(-5000, 0.5 * (min_y + max_y), 0);
+  v.max_mm = Eigen::Vector3d(5000, max_y + 500, 5000);
+  int inside = 0;
+  for (const auto& rec : truth) inside += in_capture_volume(rec.joints, v);
+  REQUIRE(inside > 0);
+  REQUIRE(inside < kFrames);
+  auto est = as_estimates(truth);
+  int flagged = 0;
+  for (auto& rec : est)
+    if (!in_capture_volume(truth[static_cast<size_t>(rec.frame)].joints, v) && rec.frame % 2 == 0) {
+      rec.valid = false;
+      ++flagged;
+    }
+  const EvalResult r = evaluate(truth, est, walking_meta(kFrames, kStature), "est", &v);
+  CHECK(r.frames == inside);
+  CHECK(r.out_of_volume_frames == kFrames - inside);
+  CHECK(r.out_of_volume_invalid == flagged);
+  CHECK(r.out_of_volume_mpjpe_mm == Approx(0).margin(1e-9));  // scored ones are right here
+  CHECK(r.valid_pct == Approx(100));
+  CHECK(r.invalid_frames == 0);
+  // Without a volume every frame counts.
+  CHECK(evaluate(truth, est, walking_meta(kFrames, kStature)).frames == kFrames);
+}

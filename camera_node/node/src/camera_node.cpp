@@ -74,6 +74,7 @@ CameraNode::CameraNode(NodeConfig config, bus::Bus& bus, const SourceRegistry& s
   }
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
+  counters_.add("corrupt_frame", 0);
   publisher_ = std::make_unique<SilhouettePublisher>(config_.lcm, bus, rig_.rig_id,
                                                      config_.camera_id, counters_);
   trigger_ = std::move(trigger);
@@ -115,6 +116,7 @@ void CameraNode::learn_background() {
   while (learnt < config_.bgs.learn_frames) {
     const GrabStatus s = src.grab(frame, kLearnTimeoutMs);
     if (s == GrabStatus::kEndOfStream) break;
+    if (s == GrabStatus::kCorruptFrame) continue;  // logged by the source; learn from the others
     HULLPOSE_THROW_UNLESS(s == GrabStatus::kFrame,
                           "camera " << config_.camera_id << ": no frame within " << kLearnTimeoutMs
                                     << " ms while learning the background (" << src.describe()
@@ -142,6 +144,7 @@ GrabStatus CameraNode::capture(Frame& frame, int timeout_ms) {
   const GrabStatus s = source_->grab(frame, timeout_ms);
   last_capture_us_ = static_cast<int32_t>(timer.elapsed_us());
   if (s == GrabStatus::kTimeout) counters_.add("capture_timeout");
+  if (s == GrabStatus::kCorruptFrame) counters_.add("corrupt_frame");
   return s;
 }
 
@@ -195,7 +198,7 @@ void CameraNode::run(const std::atomic<bool>& stop_requested) {
     }
     const GrabStatus s = capture(frame, kWaitMs);
     if (s == GrabStatus::kEndOfStream) break;
-    if (s == GrabStatus::kTimeout) continue;
+    if (s == GrabStatus::kTimeout || s == GrabStatus::kCorruptFrame) continue;
     if (!trigger_) {
       stamp = TriggerStamp{frame.sequence, frame.capture_utime};
     } else if (!exposes_on_trigger) {
@@ -216,7 +219,7 @@ void CameraNode::run_free_running(const std::atomic<bool>& stop_requested) {
   for (int64_t n = 0; !stop_requested.load(std::memory_order_relaxed);) {
     const GrabStatus s = capture(frame, kWaitMs);
     if (s == GrabStatus::kEndOfStream) break;
-    if (s == GrabStatus::kTimeout) continue;
+    if (s == GrabStatus::kTimeout || s == GrabStatus::kCorruptFrame) continue;
     // The source reuses its buffer at the next grab: keep a copy until the choice is made.
     Frame& kept = held_[static_cast<size_t>(n++) % kHeldFrames];
     frame.image.copyTo(kept.image);

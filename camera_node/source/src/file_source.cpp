@@ -6,9 +6,13 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
 
 namespace hullpose::camera_node {
+
+HULLPOSE_LOG_CATEGORY(FileSrc, "file_source")
+
 namespace {
 
 // The pattern's one "%d" or "%0Nd" replaced by the index. Done by hand rather than with printf:
@@ -22,15 +26,18 @@ struct IndexPattern {
     if (pos == std::string::npos) return false;
     size_t i = pos + 1;
     int width = 0;
-    while (i < path.size() && std::isdigit(static_cast<unsigned char>(path[i]))) width = width * 10 + (path[i++] - '0');
-    HULLPOSE_THROW_UNLESS(i < path.size() && path[i] == 'd' && width <= 12 && path.find('%', i) == std::string::npos,
-                          "file source: path '" << path << "' must contain exactly one %d or %0Nd");
+    while (i < path.size() && std::isdigit(static_cast<unsigned char>(path[i])))
+      width = width * 10 + (path[i++] - '0');
+    HULLPOSE_THROW_UNLESS(
+        i < path.size() && path[i] == 'd' && width <= 12 && path.find('%', i) == std::string::npos,
+        "file source: path '" << path << "' must contain exactly one %d or %0Nd");
     out = IndexPattern{path.substr(0, pos), path.substr(i + 1), width};
     return true;
   }
   std::string at(int index) const {
     std::string digits = std::to_string(index);
-    if (static_cast<int>(digits.size()) < width) digits.insert(0, static_cast<size_t>(width) - digits.size(), '0');
+    if (static_cast<int>(digits.size()) < width)
+      digits.insert(0, static_cast<size_t>(width) - digits.size(), '0');
     return prefix + digits + suffix;
   }
 };
@@ -54,24 +61,41 @@ FileSource::FileSource(const Params& params, const SourceContext& context)
 }
 
 std::string FileSource::describe() const {
-  return "file " + path_ + (pattern_ ? " (image sequence)" : " (video)") + (loop_ ? ", looping" : "");
+  return "file " + path_ + (pattern_ ? " (image sequence)" : " (video)") +
+         (loop_ ? ", looping" : "");
 }
 
-bool FileSource::read_next(cv::Mat& out) {
+FileSource::Read FileSource::read_next(cv::Mat& out) {
+  std::string what;
   if (pattern_) {
     const std::string name = IndexPattern{prefix_, suffix_, width_}.at(first_index_ + next_index_);
-    if (!std::filesystem::exists(name)) return false;
+    if (!std::filesystem::exists(name)) return Read::kEnd;
     out = cv::imread(name, cv::IMREAD_COLOR);
-    HULLPOSE_THROW_UNLESS(!out.empty(), "camera " << camera_id_ << ": file source: cannot decode image " << name);
+    if (out.empty()) what = "image " + name + " does not decode";
   } else {
-    if (!video_.read(out)) return false;
+    // A failed read before the frame count the container states is a damaged frame; past it (or
+    // with no count) the end of the video.
+    if (!video_.read(out) || out.empty()) {
+      if (count_ < 0 || next_index_ >= count_) return Read::kEnd;
+      what = "frame " + std::to_string(next_index_) + " of " + path_ + " does not decode";
+    }
   }
-  HULLPOSE_THROW_UNLESS(out.size() == size_, "camera " << camera_id_ << ": file source " << path_ << ": frame "
-                                                        << next_index_ << " is " << out.cols << "x" << out.rows
-                                                        << ", the rig camera is " << size_.width << "x"
-                                                        << size_.height);
+  if (!what.empty()) {
+    ++next_index_;
+    // The first few and then every 100th: a truncated video fails on every frame after the cut.
+    if (++corrupt_ <= 3 || corrupt_ % 100 == 0) {
+      HULLPOSE_LOG(FileSrc, Warn) << "camera " << camera_id_ << ": " << what
+                                  << " (corrupt or truncated; " << corrupt_
+                                  << " so far): no silhouette for it";
+    }
+    return Read::kCorrupt;
+  }
+  HULLPOSE_THROW_UNLESS(out.size() == size_,
+                        "camera " << camera_id_ << ": file source " << path_ << ": frame "
+                                  << next_index_ << " is " << out.cols << "x" << out.rows
+                                  << ", the rig camera is " << size_.width << "x" << size_.height);
   ++next_index_;
-  return true;
+  return Read::kFrame;
 }
 
 void FileSource::start() {
@@ -80,20 +104,24 @@ void FileSource::start() {
   t0_ = start_utime_ > 0 ? start_utime_ : realtime_utime();
   if (pattern_) {
     const std::string first = IndexPattern{prefix_, suffix_, width_}.at(first_index_);
-    HULLPOSE_THROW_UNLESS(std::filesystem::exists(first), "camera " << camera_id_ << ": file source: first image "
-                                                                    << first << " not found (pattern " << path_
-                                                                    << ", first_index " << first_index_ << ")");
+    HULLPOSE_THROW_UNLESS(std::filesystem::exists(first),
+                          "camera " << camera_id_ << ": file source: first image " << first
+                                    << " not found (pattern " << path_ << ", first_index "
+                                    << first_index_ << ")");
   } else {
-    HULLPOSE_THROW_UNLESS(std::filesystem::exists(path_), "camera " << camera_id_ << ": file source: " << path_
-                                                                    << " not found");
-    HULLPOSE_THROW_UNLESS(video_.open(path_), "camera " << camera_id_ << ": file source: OpenCV cannot open video "
-                                                        << path_);
+    HULLPOSE_THROW_UNLESS(std::filesystem::exists(path_),
+                          "camera " << camera_id_ << ": file source: " << path_ << " not found");
+    HULLPOSE_THROW_UNLESS(
+        video_.open(path_),
+        "camera " << camera_id_ << ": file source: OpenCV cannot open video " << path_);
   }
   exposed_index_ = -1;
   prepared_index_ = -1;
   if (pattern_) {
     count_ = 0;
-    while (std::filesystem::exists(IndexPattern{prefix_, suffix_, width_}.at(first_index_ + count_))) ++count_;
+    while (
+        std::filesystem::exists(IndexPattern{prefix_, suffix_, width_}.at(first_index_ + count_)))
+      ++count_;
   } else {
     count_ = static_cast<int>(video_.get(cv::CAP_PROP_FRAME_COUNT));
     if (count_ <= 0) count_ = -1;
@@ -101,14 +129,17 @@ void FileSource::start() {
   if (preload_) {
     frames_.clear();
     cv::Mat m;
-    while (read_next(m)) frames_.push_back(m.clone());
+    // A corrupt frame keeps its place as an empty one, so frame k is still trigger k's.
+    for (Read r; (r = read_next(m)) != Read::kEnd;)
+      frames_.push_back(r == Read::kFrame ? m.clone() : cv::Mat());
     next_index_ = 0;
     count_ = static_cast<int>(frames_.size());
   }
 }
 
 int64_t FileSource::frame_of(int64_t trigger_seq) const {
-  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << camera_id_ << ": file source: trigger sequence "
+  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << camera_id_
+                                                    << ": file source: trigger sequence "
                                                     << trigger_seq << " is negative");
   return loop_ && count_ > 0 ? trigger_seq % count_ : std::min<int64_t>(trigger_seq, 1 << 30);
 }
@@ -123,12 +154,20 @@ void FileSource::prepare(int64_t trigger_seq) {
   if (!pattern_ || preload_ || index == prepared_index_ || (count_ >= 0 && index >= count_)) return;
   const int saved = next_index_;
   next_index_ = index;
-  prepared_index_ = read_next(prepared_) ? index : -1;
+  prepared_index_ = read_next(prepared_) == Read::kFrame ? index : -1;
   next_index_ = saved;
 }
 
 void FileSource::seek(int index) {
-  if (!pattern_ && !preload_ && index != next_index_) video_.set(cv::CAP_PROP_POS_FRAMES, index);
+  if (!pattern_ && !preload_ && index != next_index_) {
+    // Frame-exact by decoding forward: CAP_PROP_POS_FRAMES lands on a nearby key frame in
+    // inter-coded videos (XviD, H.264), and every node must show the trigger's own frame.
+    if (index < next_index_) {
+      video_.set(cv::CAP_PROP_POS_FRAMES, 0);
+      next_index_ = 0;
+    }
+    while (next_index_ < index && video_.grab()) ++next_index_;
+  }
   next_index_ = index;
 }
 
@@ -139,33 +178,39 @@ GrabStatus FileSource::grab(Frame& frame, int /*timeout_ms*/) {
     exposed_index_ = -1;
   }
   const bool loop = loop_ && !exposed;  // a trigger's frame was wrapped by expose() already
-  bool ok = false;
+  Read r = Read::kEnd;
   if (preload_) {
     if (frames_.empty()) return GrabStatus::kEndOfStream;
     if (next_index_ >= static_cast<int>(frames_.size()) && loop) next_index_ = 0;
     if (next_index_ < static_cast<int>(frames_.size())) {
       frame.image = frames_[static_cast<size_t>(next_index_++)];
-      ok = true;
+      r = frame.image.empty() ? Read::kCorrupt : Read::kFrame;
     }
   } else if (exposed && next_index_ == prepared_index_) {
     std::swap(image_, prepared_);  // decoded while the node waited for this trigger
     prepared_index_ = -1;
     ++next_index_;
-    ok = true;
+    r = Read::kFrame;
     frame.image = image_;
   } else {
-    ok = read_next(image_);
-    if (!ok && loop && delivered_ > 0) {
+    r = read_next(image_);
+    if (r == Read::kEnd && loop && delivered_ > 0) {
+      if (!pattern_) video_.set(cv::CAP_PROP_POS_FRAMES, 0);  // the start is a key frame
       next_index_ = 0;
-      if (!pattern_) video_.set(cv::CAP_PROP_POS_FRAMES, 0);
-      ok = read_next(image_);
+      r = read_next(image_);
     }
     frame.image = image_;
   }
-  if (!ok) return GrabStatus::kEndOfStream;
+  if (r == Read::kEnd) return GrabStatus::kEndOfStream;
+  if (r == Read::kCorrupt) {
+    ++delivered_;  // the sensor's counter moves on: the frame existed, it is only unreadable
+    return GrabStatus::kCorruptFrame;
+  }
   frame.sequence = delivered_;
   frame.capture_utime =
-      exposed ? exposed_utime_ : t0_ + static_cast<int64_t>(std::llround(static_cast<double>(delivered_) * 1e6 / fps_));
+      exposed
+          ? exposed_utime_
+          : t0_ + static_cast<int64_t>(std::llround(static_cast<double>(delivered_) * 1e6 / fps_));
   ++delivered_;
   return GrabStatus::kFrame;
 }

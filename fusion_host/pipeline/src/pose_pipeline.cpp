@@ -7,7 +7,7 @@
 namespace hullpose::fusion {
 
 PosePipeline::PosePipeline(const Rig& rig, const FusionOptions& fusion,
-                           const pose::PoseParams& pose, Counters* counters)
+                           const pose::HullPoseParams& pose, Counters* counters)
     : core_(rig, fusion, counters), estimator_(pose) {}
 
 const FrameOutcome& PosePipeline::process(std::span<const cv::Mat> masks,
@@ -16,9 +16,8 @@ const FrameOutcome& PosePipeline::process(std::span<const cv::Mat> masks,
   const FusionResult& hull = core_.process(masks, rois);
   out_.fused_after_us = timer.elapsed_us();
   const pose::PoseEstimate& pose =
-      estimator_.estimate(hull.valid ? std::span<const Eigen::Vector3i>(hull.skeleton_voxels)
-                                     : std::span<const Eigen::Vector3i>(),
-                          hull.grid);
+      hull.valid ? estimator_.estimate(hull.skeleton_voxels, &hull.hull, hull.grid)
+                 : estimator_.estimate({}, nullptr, hull.grid);
   out_.hull = &hull;
   out_.pose = &pose;
   out_.valid = pose.valid;

@@ -367,7 +367,7 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
     const double d = shake_.target_distance(static_cast<Joint>(j), result_.joints[j]) / std::max(1.0, tree.voxel_mm);
     result_.confidence[j] = static_cast<float>(tree.limb_score[limb_of(static_cast<Joint>(j))] / (1 + d));
   }
-  result_.ok = finite && result_.max_bone_error_mm < 0.1;
+  result_.ok = finite && result_.max_bone_error_mm < params_.shake.max_bone_error_mm;
   return result_;
 }
 

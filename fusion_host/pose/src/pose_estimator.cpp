@@ -13,12 +13,6 @@ HULLPOSE_LOG_CATEGORY(Pose, "pose")
 
 namespace {
 using Msg = hullpose_msg::skeleton_t;
-
-double mean_displacement(const JointPositions& a, const JointPositions& b) {
-  double sum = 0;
-  for (int j = 0; j < kNumJoints; ++j) sum += (a[j] - b[j]).norm();
-  return sum / kNumJoints;
-}
 }  // namespace
 
 PoseEstimator::PoseEstimator(PoseParams params)
@@ -29,7 +23,7 @@ void PoseEstimator::reset() {
   hint_ = TemporalHint{};
   has_accepted_ = has_pending_ = false;
   frames_since_accepted_ = 0;
-  stature_count_ = stature_next_ = 0;
+  stature_.reset();
 }
 
 void PoseEstimator::reuse(int8_t reason, const char* detail) {
@@ -48,16 +42,6 @@ void PoseEstimator::reuse(int8_t reason, const char* detail) {
   HULLPOSE_LOG(Pose, Debug) << "frame not fresh: " << detail;
 }
 
-// Median of the window including `frame` (fixed buffers: no allocation).
-double PoseEstimator::running_stature(double frame) {
-  stature_ring_[stature_next_] = frame;
-  stature_next_ = (stature_next_ + 1) % kStatureWindow;
-  stature_count_ = std::min(stature_count_ + 1, kStatureWindow);
-  std::copy_n(stature_ring_.begin(), stature_count_, stature_scratch_.begin());
-  const auto mid = stature_scratch_.begin() + stature_count_ / 2;
-  std::nth_element(stature_scratch_.begin(), mid, stature_scratch_.begin() + stature_count_);
-  return *mid;
-}
 
 const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid) {
   ++frames_since_accepted_;
@@ -83,14 +67,14 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
   timer.restart();
   const double frame_stature = fitter_.frame_stature(tree);
   out_.frame_stature_mm = frame_stature;
-  const bool settled = stature_count_ >= params_.stature_settle_frames;
+  const bool settled = stature_.count() >= params_.stature_settle_frames;
   if (!(frame_stature >= params_.min_stature_mm && frame_stature <= params_.max_stature_mm) ||
       (settled && std::abs(frame_stature - out_.stature_mm) > params_.stature_tolerance * out_.stature_mm)) {
     out_.fit_us = timer.elapsed_us();
     reuse(Msg::REASON_INVALID_TREE, "skeleton size implausible for the subject's stature");
     return out_;
   }
-  out_.stature_mm = running_stature(frame_stature);
+  out_.stature_mm = stature_.add(frame_stature);
   const FitResult& fit = fitter_.fit(tree, out_.stature_mm);
   out_.fit_us = timer.elapsed_us();
   out_.shake_iterations = fit.iterations;

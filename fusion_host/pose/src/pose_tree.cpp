@@ -530,7 +530,7 @@ bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
   }
   forward -= up * up.dot(forward);
   tree_.forward_from_previous = false;
-  if (forward.norm() < 0.3) {  // straight legs without feet, or the two legs disagree
+  if (forward.norm() < params_.min_forward_norm) {  // straight legs without feet, or the two legs disagree
     if (!hint.valid) return false;
     forward = hint.forward - up * up.dot(hint.forward);
     if (forward.norm() < 1e-6) return false;
@@ -644,7 +644,7 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
     if (temporal[kHeadSlot] != best.ends[kHeadSlot] || !same_set(kHand1, kHand2, temporal) ||
         !same_set(kFoot1, kFoot2, temporal)) {
       const Ranked t = best_for_assignment(temporal, longest);
-      if (t.quality >= best.quality - 0.05) {
+      if (t.quality >= best.quality - params_.temporal_quality_margin) {
         best = t;
         tree_.used_temporal_labels = true;
       }

@@ -119,12 +119,14 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "[--threads N]\n"
       "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
       "ck3|isthmus|endvoxel]\n"
-      "         [--timings FILE]\n"
+      "         [--timings FILE] [--pose bottom-up|track]\n"
       "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the "
       "estimates\n"
       "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
       "constraint\n"
-      "(fusion_host/pose/README.md compares them).\n");
+      "(fusion_host/pose/README.md compares them); --pose track (default) tracks the subject's body\n"
+      "model on the hull with the per-frame bottom-up path for acquisition and recovery, bottom-up\n"
+      "is that path alone.\n");
   line.option("--replay", dataset)
       .option("--out", out)
       .option("--timings", timings)
@@ -140,6 +142,7 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
               })
       .option("--backend",
               [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
+      .option("--pose", [&](const std::string& v) { options.pose.mode = pose::parse_pose_mode(v); })
       .option("--curve-rule", [&](const std::string& v) {
         if (v == "ck3") {
           options.fusion.curve_rule = thin::CurveRule::kCk3;

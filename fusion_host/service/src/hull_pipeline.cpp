@@ -3,7 +3,7 @@
 namespace hullpose::fusion {
 
 HullPipeline::HullPipeline(const Rig& rig, const FusionOptions& fusion,
-                           const pose::PoseParams& pose, Counters* counters)
+                           const pose::HullPoseParams& pose, Counters* counters)
     : rig_(rig), pipeline_(rig, fusion, pose, counters) {
   masks_.reserve(rig.cameras.size());
   rois_.reserve(rig.cameras.size());
@@ -29,7 +29,9 @@ std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const Pipeline
   f.resolution = options.resolution;
   f.tolerance = options.tolerance;
   f.backend = gpu::parse_backend(options.backend);
-  return std::make_unique<HullPipeline>(rig, f, pose::PoseParams{}, nullptr);
+  pose::HullPoseParams p;
+  p.mode = pose::parse_pose_mode(options.pose);
+  return std::make_unique<HullPipeline>(rig, f, p, nullptr);
 }
 
 }  // namespace hullpose::fusion

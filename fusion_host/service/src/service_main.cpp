@@ -33,10 +33,11 @@ constexpr const char* kUsage =
     "first|trigger]\n"
     "    [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] "
     "[--resolution N]\n"
-    "    [--tolerance K] [--backend auto|cpu|cuda]\n"
+    "    [--tolerance K] [--backend auto|cpu|cuda] [--pose bottom-up|track]\n"
     "  or, offline: --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
     "    [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel] "
-    "[--timings FILE]\n";
+    "[--timings FILE]\n"
+    "    [--pose bottom-up|track]\n";
 
 // Empty when --help was asked for.
 std::optional<Options> parse(int argc, const char* const* argv, const char* tool) {
@@ -65,6 +66,7 @@ std::optional<Options> parse(int argc, const char* const* argv, const char* tool
       .option("--resolution", o.pipeline.resolution)
       .option("--tolerance", o.pipeline.tolerance)
       .option("--backend", o.pipeline.backend)
+      .option("--pose", o.pipeline.pose)
       .option("--deadline-from", [&a](const std::string& v) {
         HULLPOSE_THROW_UNLESS(v == "first" || v == "trigger",
                               "--deadline-from must be first or trigger, got '" << v << "'");

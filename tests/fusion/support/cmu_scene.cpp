@@ -9,15 +9,15 @@
 
 namespace hullpose::fusion::testing {
 
-CmuFrames render_cmu_55_01(int count) {
+CmuFrames render_cmu_55_01(int count, const std::string& rig) {
   constexpr double kFps = 30;
   CmuFrames out;
-  out.rig = synth::rig_from_name_or_file("thesis8");
+  out.rig = synth::rig_from_name_or_file(rig);
   synth::MotionOptions options;
   options.centre_mm = (out.rig.volume.min_mm + out.rig.volume.max_mm) / 2;
   options.centre_mm.z() = 0;
-  const auto motion =
-      synth::load_bvh_motion(std::filesystem::path(HULLPOSE_SHARED_DIR) / "data/mocap/55_01.bvh", options);
+  const auto motion = synth::load_bvh_motion(
+      std::filesystem::path(HULLPOSE_SHARED_DIR) / "data/mocap/55_01.bvh", options);
   synth::BodyShape body;
   body.stature_mm = motion->stature_mm();
   std::vector<synth::ViewRenderer> renderers;

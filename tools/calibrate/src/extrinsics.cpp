@@ -111,6 +111,12 @@ CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int mi
     lo = lo.cwiseMin(c.centre());
     hi = hi.cwiseMax(c.centre());
   }
+  // Cameras along walls rather than on a ring see space beyond their own extent (a rig with
+  // three cameras on one wall and one on another sees the room behind the fourth): search half
+  // the cameras' horizontal extent further on every side.
+  const double grow = 0.5 * (hi - lo).head<2>().maxCoeff();
+  lo.head<2>().array() -= grow;
+  hi.head<2>().array() += grow;
   lo.z() = 0;
   hi.z() = std::max(hi.z(), step_mm);
   Eigen::Vector3d vmin = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());

@@ -63,13 +63,16 @@ bool LiveViewProvider::next(CaptureInstant& out) {
   if (options_.max_instants > 0 && delivered_ >= options_.max_instants) return false;
   out.images.clear();
   for (auto& c : cameras_) {
+    camera_node::GrabStatus status = camera_node::GrabStatus::kFrame;
     for (int skip = 0; skip < options_.stride; ++skip) {
-      const camera_node::GrabStatus status = c.source->grab(frame_, options_.timeout_ms);
+      status = c.source->grab(frame_, options_.timeout_ms);
       if (status == camera_node::GrabStatus::kEndOfStream) return false;
-      HULLPOSE_THROW_UNLESS(status == camera_node::GrabStatus::kFrame,
+      HULLPOSE_THROW_UNLESS(status != camera_node::GrabStatus::kTimeout,
                             "camera " << c.id << ": no frame within " << options_.timeout_ms
                                       << " ms from " << c.source->describe());
     }
+    if (status == camera_node::GrabStatus::kCorruptFrame)
+      continue;  // logged: this camera misses the instant
     // The source reuses its buffer: the calibration keeps only corners, but detection runs later.
     out.images.push_back({c.id, frame_.image.clone()});
   }

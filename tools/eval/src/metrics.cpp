@@ -5,6 +5,7 @@
 #include <hullpose_msg/skeleton_t.hpp>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "hullpose/common/check.hpp"
 
@@ -109,14 +110,28 @@ bool lr_correct(const JointPositions& estimate, const JointPositions& truth, Lim
   return lr_cost(estimate, truth, kLeftLeg, false) <= lr_cost(estimate, truth, kLeftLeg, true);
 }
 
+bool in_capture_volume(const JointPositions& truth, const CaptureVolume& volume) {
+  for (const Eigen::Vector3d& p : truth) {
+    if (p.x() < volume.min_mm.x() + kBodyMarginMm || p.x() > volume.max_mm.x() - kBodyMarginMm)
+      return false;
+    if (p.y() < volume.min_mm.y() + kBodyMarginMm || p.y() > volume.max_mm.y() - kBodyMarginMm)
+      return false;
+    if (p.z() > volume.max_mm.z() - kBodyMarginMm) return false;
+  }
+  return true;
+}
+
 EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<PoseRecord>& estimates,
-                    const DatasetMeta& meta, const std::string& estimate_name) {
+                    const DatasetMeta& meta, const std::string& estimate_name,
+                    const CaptureVolume* volume) {
   HULLPOSE_THROW_UNLESS(!truth.empty(), "the ground truth has no frames");
   HULLPOSE_THROW_UNLESS(!estimates.empty(), estimate_name << ": no frames");
   const int first = truth.front().frame, last = truth.back().frame;
 
   EvalResult r;
   r.frames = static_cast<int>(truth.size());
+  double out_of_volume_sum = 0;
+  int out_of_volume_scored = 0;
   r.per_frame.reserve(truth.size());
   std::vector<double> all, extremities, hands_feet, statures_est, statures_gt, frame_means,
       frame_hf;
@@ -134,6 +149,28 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
     f.frame = gt.frame;
     const PoseRecord* est = nullptr;
     if (e < estimates.size() && estimates[e].frame == gt.frame) est = &estimates[e++];
+    f.in_volume = volume == nullptr || in_capture_volume(gt.joints, *volume);
+    if (!f.in_volume) {
+      --r.frames;
+      ++r.out_of_volume_frames;
+      f.status = est == nullptr ? FrameStatus::Missing
+                 : est->valid   ? FrameStatus::Scored
+                                : FrameStatus::Invalid;
+      f.reason = est == nullptr ? -1 : est->reason;
+      f.mean_mm = f.extremity_mm = f.hands_feet_mm = f.stature_gt_mm = f.stature_est_mm = kNaN;
+      f.axis_abs_mm.setConstant(kNaN);
+      f.axis_bias_mm.setConstant(kNaN);
+      if (f.status == FrameStatus::Scored) {
+        double sum = 0;
+        for (size_t j = 0; j < kNumJoints; ++j) sum += (est->joints[j] - gt.joints[j]).norm();
+        out_of_volume_sum += sum / kNumJoints;
+        ++out_of_volume_scored;
+      } else {
+        ++r.out_of_volume_invalid;
+      }
+      r.per_frame.push_back(f);
+      continue;
+    }
     if (est == nullptr || !est->valid) {
       f.status = est == nullptr ? FrameStatus::Missing : FrameStatus::Invalid;
       f.reason = est == nullptr ? -1 : est->reason;
@@ -194,6 +231,8 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
                                       << " is not a ground-truth frame (the ground truth has "
                                       << r.frames << " frames, " << first << ".." << last << ")");
 
+  r.out_of_volume_mpjpe_mm =
+      out_of_volume_scored > 0 ? out_of_volume_sum / out_of_volume_scored : kNaN;
   const int scored = r.scored_frames;
   r.valid_pct = pct(scored, r.frames);
   r.all_joints = box_stats(std::move(all));
@@ -233,7 +272,11 @@ EvalResult evaluate_files(const std::filesystem::path& dataset_dir,
                         paths.ground_truth().string()
                             << ": has " << truth.size() << " frames but " << paths.meta().string()
                             << " says " << meta.frames);
-  return evaluate(truth, read_estimates(estimate_file), meta, estimate_file.string());
+  // The capture volume comes from the dataset's rig, when it has one.
+  std::optional<CaptureVolume> volume;
+  if (std::filesystem::exists(paths.rig())) volume = load_rig(paths.rig()).volume;
+  return evaluate(truth, read_estimates(estimate_file), meta, estimate_file.string(),
+                  volume ? &*volume : nullptr);
 }
 
 }  // namespace hullpose::eval

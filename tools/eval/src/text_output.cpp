@@ -37,6 +37,9 @@ void write_json(std::ostream& out, const EvalResult& r) {
   o["scored_frames"] = r.scored_frames;
   o["invalid_frames"] = r.invalid_frames;
   o["missing_frames"] = r.missing_frames;
+  o["out_of_volume_frames"] = r.out_of_volume_frames;
+  o["out_of_volume_invalid"] = r.out_of_volume_invalid;
+  o["out_of_volume_mpjpe_mm"] = num(r.out_of_volume_mpjpe_mm);
   Json reasons = Json::object();
   for (const auto& [code, count] : r.invalid_reasons) reasons[msg::reason_name(code)] = count;
   o["invalid_reasons"] = reasons;
@@ -96,13 +99,17 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   out << "hullpose-eval  " << source.estimate << "  vs  " << source.dataset;
   if (!source.motion.empty()) out << "  (" << source.motion << ")";
   out << "\n\nFrames\n";
-  row("ground-truth frames", std::to_string(r.frames));
+  row("ground-truth frames (in the volume)", std::to_string(r.frames));
   row("scored (estimate valid)", std::to_string(r.scored_frames) + "   (" + pc(r.valid_pct) + ")");
   std::string invalid = std::to_string(r.invalid_frames);
   for (const auto& [code, count] : r.invalid_reasons)
     invalid += "   " + msg::reason_name(code) + "=" + std::to_string(count);
   row("invalid (estimate valid=0)", invalid);
   row("missing from the estimate file", std::to_string(r.missing_frames));
+  row("true body outside the volume",
+      std::to_string(r.out_of_volume_frames) + "   (flagged invalid " +
+          std::to_string(r.out_of_volume_invalid) + ", scored at " + mm(r.out_of_volume_mpjpe_mm) +
+          "; not counted above or below)");
 
   out << "\nJoint error over scored frames\n";
   row("all joints (MPJPE)", stats(r.all_joints));

@@ -31,7 +31,16 @@ struct Rig {
   void validate() const;
 };
 
-// Throws hullpose::Error naming the file, camera and field on any problem; the result is validated.
+// Other tools write rotations with few decimals (6 are common), a little off orthonormal. If
+// max|RᵀR - I| is above 1e-10 (more than a computed rotation's rounding, so rigs we write still
+// round-trip exactly) and at most kMaxRotationRepair, R is replaced by the nearest rotation (SVD)
+// and the deviation is returned; otherwise R is left alone and 0 returned (a gross error or a
+// reflection stays for validate() to refuse).
+inline constexpr double kMaxRotationRepair = 1e-3;
+double repair_rotation(Eigen::Matrix3d& R);
+
+// Throws hullpose::Error naming the file, camera and field on any problem; the result is
+// validated. Rotations slightly off orthonormal are repaired (repair_rotation) with a warning.
 Rig load_rig(const std::filesystem::path& path);
 // Validates, then writes; doubles are written so that load_rig(save_rig(r)) == r exactly.
 void save_rig(const Rig& rig, const std::filesystem::path& path);

@@ -9,6 +9,8 @@
 // first_index (0), loop (false), preload (false: read every frame into memory at start(), so that
 // grab() neither allocates nor touches the disk — for benchmarks and tests; without it each frame
 // is decoded from disk, which allocates).
+// A frame that does not decode (a corrupt image file, a damaged or truncated video) is
+// GrabStatus::kCorruptFrame, logged: that camera is missing for that frame, the next is read.
 #include <opencv2/videoio.hpp>
 
 #include "hullpose/camera_node/frame_source.hpp"
@@ -27,7 +29,8 @@ class FileSource final : public FrameSource {
   void prepare(int64_t trigger_seq) override;
 
  private:
-  bool read_next(cv::Mat& out);
+  enum class Read { kFrame, kEnd, kCorrupt };
+  Read read_next(cv::Mat& out);
   void seek(int index);
   int64_t frame_of(int64_t trigger_seq) const;
   std::string path_;
@@ -50,8 +53,9 @@ class FileSource final : public FrameSource {
   int64_t delivered_ = 0;
   int64_t t0_ = 0;
   cv::Mat image_;
-  cv::Mat prepared_;          // an image sequence's frame prepared_index_, decoded ahead
+  cv::Mat prepared_;  // an image sequence's frame prepared_index_, decoded ahead
   int prepared_index_ = -1;
+  int64_t corrupt_ = 0;
 };
 
 }  // namespace hullpose::camera_node

@@ -38,6 +38,9 @@ enum class GrabStatus {
   kFrame,        // `frame` holds a new frame
   kTimeout,      // no frame within the timeout (e.g. external trigger paused); try again
   kEndOfStream,  // a finite source (file) has no more frames
+  // This frame could not be decoded (a corrupt or truncated file): the camera has no picture of
+  // that instant and sends nothing for it; the node counts it (corrupt_frame) and goes on.
+  kCorruptFrame,
 };
 
 class FrameSource {

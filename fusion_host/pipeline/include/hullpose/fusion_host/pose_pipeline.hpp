@@ -3,7 +3,7 @@
 // offline replay (fusion_host/replay) and the live service (HullPipeline, fusion_host/service):
 //
 //   views by camera index -> FusionCore (carve -> clean-up -> thin; fusion_host/core)
-//                         -> pose::PoseEstimator (tree -> fit -> temporal checks; fusion_host/pose)
+//                         -> pose::HullPoseEstimator (bottom-up tree -> fit, hull tracking; fusion_host/pose)
 //                         -> FrameOutcome: valid + the skeleton_t REASON_* to publish
 //
 // The pose stage sees every frame (an empty skeleton when the hull failed), so that its
@@ -18,7 +18,7 @@
 #include "hullpose/common/counters.hpp"
 #include "hullpose/common/rig.hpp"
 #include "hullpose/fusion/fusion_core.hpp"
-#include "hullpose/pose/pose_estimator.hpp"
+#include "hullpose/pose/hull_pose_estimator.hpp"
 
 namespace hullpose::fusion {
 
@@ -34,18 +34,18 @@ struct FrameOutcome {
 class PosePipeline {
  public:
   // Throws hullpose::Error on a bad rig or options. `counters`, if given, must outlive this.
-  PosePipeline(const Rig& rig, const FusionOptions& fusion, const pose::PoseParams& pose,
+  PosePipeline(const Rig& rig, const FusionOptions& fusion, const pose::HullPoseParams& pose,
                Counters* counters);
 
   // masks[i]: rig.cameras[i]'s silhouette or an empty Mat; rois: optional foreground boxes.
   const FrameOutcome& process(std::span<const cv::Mat> masks, std::span<const PixelRoi> rois = {});
 
   const FusionCore& core() const { return core_; }
-  const pose::PoseEstimator& estimator() const { return estimator_; }
+  const pose::HullPoseEstimator& estimator() const { return estimator_; }
 
  private:
   FusionCore core_;
-  pose::PoseEstimator estimator_;
+  pose::HullPoseEstimator estimator_;
   FrameOutcome out_;
 };
 

@@ -21,12 +21,22 @@ namespace hullpose::pose {
 
 using JointPositions = std::array<Eigen::Vector3d, kNumJoints>;
 
+// Mean distance between corresponding joints (mm): paper 6's pose-jump measure.
+inline double mean_displacement(const JointPositions& a, const JointPositions& b) {
+  double sum = 0;
+  for (int j = 0; j < kNumJoints; ++j) sum += (a[j] - b[j]).norm();
+  return sum / kNumJoints;
+}
+
 struct ShakeParams {
   int max_iterations = 60;        // outer iterations (pseudo-constraint step + bone sweeps)
   int sweeps_per_iteration = 3;
   double target_gain = 1.0;       // fraction of the distance to its targets a joint moves per step
   double tolerance_mm = 0.05;     // stop when an iteration moves no joint further than this
   double bone_tolerance_mm = 0.01;  // |length - l| every bone must meet when solve() returns
+  // A fit whose bones are still further off than this did not converge (ten times the
+  // tolerance: the final sweeps stopped on their count, not on the tolerance).
+  double max_bone_error_mm = 0.1;
   int max_bone_sweeps = 400;
 };
 

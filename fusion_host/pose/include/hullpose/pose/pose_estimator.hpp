@@ -13,6 +13,7 @@
 #include "hullpose/common/voxel_grid.hpp"
 #include "hullpose/pose/model_fit.hpp"
 #include "hullpose/pose/pose_tree.hpp"
+#include "hullpose/pose/running_median.hpp"
 
 namespace hullpose::pose {
 
@@ -56,11 +57,12 @@ class PoseEstimator {
   const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid);
   const PoseEstimate& last() const { return out_; }
   const LabelledTree& tree() const { return builder_.tree(); }
+  // Valid frames in the running stature (it is settled from params.stature_settle_frames on).
+  int stature_frames() const { return stature_.count(); }
   void reset();
 
  private:
   void reuse(int8_t reason, const char* detail);
-  double running_stature(double frame);
 
   PoseParams params_;
   PoseTreeBuilder builder_;
@@ -72,9 +74,7 @@ class PoseEstimator {
   JointPositions pending_{};    // a rejected jump, kept to confirm against the next frame
   bool has_accepted_ = false, has_pending_ = false;
   int frames_since_accepted_ = 0;
-  std::array<double, kStatureWindow> stature_ring_{};
-  std::array<double, kStatureWindow> stature_scratch_{};
-  int stature_count_ = 0, stature_next_ = 0;
+  RunningMedian<kStatureWindow> stature_;
 };
 
 }  // namespace hullpose::pose

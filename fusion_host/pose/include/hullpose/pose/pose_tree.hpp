@@ -65,6 +65,14 @@ struct TreeParams {
   int edge_voxels = 1;
   // Algorithm 5: a joint normal counts only if the joint is bent by more than this.
   double bend_min_deg = 12;
+  // Algorithm 5's summed forward vector (up to 2 unit normals and 2 feet, projected off the
+  // torso axis) shorter than this has no direction (straight legs without feet, or legs that
+  // disagree): the previous frame's forward is used. 0.3 is about one unit vector 70 degrees off
+  // the horizontal plane.
+  double min_forward_norm = 0.3;
+  // The temporal correspondence of the extremities chooses the labels only when the labelling it
+  // implies ranks within this of the best structural one (a quality is in 0..1; README).
+  double temporal_quality_margin = 0.05;
 };
 
 // What the previous valid frame tells the next one.

@@ -15,7 +15,7 @@ struct ReplayOptions {
   std::filesystem::path timings;  // per-frame stage timings CSV; default: <out>.timings.csv
   int max_frames = -1;            // all frames of meta.json when negative
   fusion::FusionOptions fusion;
-  pose::PoseParams pose;
+  pose::HullPoseParams pose;
 };
 
 struct ReplaySummary {

@@ -81,6 +81,7 @@ struct PipelineOptions {
       128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
   int tolerance = 0;             // --tolerance K: a voxel may be missed by K present cameras
   std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
+  std::string pose = "track";     // --pose bottom-up|track (fusion_host/pose checks it)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,

@@ -13,7 +13,7 @@ namespace hullpose::fusion {
 
 class HullPipeline final : public FramePipeline {
  public:
-  HullPipeline(const Rig& rig, const FusionOptions& fusion, const pose::PoseParams& pose,
+  HullPipeline(const Rig& rig, const FusionOptions& fusion, const pose::HullPoseParams& pose,
                Counters* counters);
   void process(const AssembledFrame& frame, PoseEstimate& out) override;
   const PosePipeline& pipeline() const { return pipeline_; }

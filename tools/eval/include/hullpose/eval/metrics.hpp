@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hullpose/common/dataset.hpp"
+#include "hullpose/common/rig.hpp"
 
 namespace hullpose::eval {
 
@@ -36,6 +37,9 @@ const char* to_string(FrameStatus status);
 struct FrameResult {
   int frame = 0;
   FrameStatus status = FrameStatus::Missing;
+  // The true body lies wholly inside the capture volume (always true without a volume). Frames
+  // outside are left out of every figure below but the out_of_volume_* counts.
+  bool in_volume = true;
   int reason = -1;  // the estimate's reason code; -1 when Missing
   // The rest is NaN / false unless status == Scored.
   double mean_mm = 0;        // mean joint error over the 25 joints
@@ -50,7 +54,14 @@ struct FrameResult {
 };
 
 struct EvalResult {
-  int frames = 0;  // ground-truth frames: the denominator of every *_pct over all frames
+  // Ground-truth frames whose true body lies partly outside the capture volume (when the
+  // dataset has a rig): not in `frames` nor in any figure below. They must be flagged invalid
+  // or be right: out_of_volume_invalid of them were flagged, the rest were scored with a mean
+  // joint error of out_of_volume_mpjpe_mm.
+  int out_of_volume_frames = 0;
+  int out_of_volume_invalid = 0;
+  double out_of_volume_mpjpe_mm = 0;
+  int frames = 0;  // in-volume ground-truth frames: the denominator of every *_pct over all frames
   int scored_frames = 0;
   int invalid_frames = 0;
   int missing_frames = 0;
@@ -105,8 +116,18 @@ bool lr_correct(const JointPositions& estimate, const JointPositions& truth, Lim
 // Scores `estimates` against `truth`. Every estimate frame must be a ground-truth frame and
 // the estimate must not be empty (else hullpose::Error naming `estimate_name`); both are
 // sorted by frame (the readers check it).
+// With `volume`, frames whose true body is not wholly inside it (in_capture_volume) are counted
+// apart (out_of_volume_*).
 EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<PoseRecord>& estimates,
-                    const DatasetMeta& meta, const std::string& estimate_name = "estimate");
+                    const DatasetMeta& meta, const std::string& estimate_name = "estimate",
+                    const CaptureVolume* volume = nullptr);
+
+// Whether a true body lies wholly inside the capture volume: every joint at least
+// kBodyMarginMm inside its sides and top (the floor is the volume's bottom: feet stand on it).
+// The margin is the farthest the body's surface reaches beyond a joint centre (the head's
+// radius, ~100 mm).
+inline constexpr double kBodyMarginMm = 100;
+bool in_capture_volume(const JointPositions& truth, const CaptureVolume& volume);
 
 // Reads DIR/meta.json, DIR/ground_truth.csv and the estimate file, checks they agree, and
 // scores them. Throws hullpose::Error naming the file on bad input.

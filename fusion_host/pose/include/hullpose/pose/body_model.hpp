@@ -1,0 +1,77 @@
+#pragma once
+// The subject's body: bone lengths and limb radii (capsules around the 24 bones of
+// common/joints.hpp), estimated online from confident frames (BodyModelEstimator), used by the
+// hull tracker (hull_tracker.hpp). No allocation.
+#include <Eigen/Core>
+#include <array>
+
+#include "hullpose/common/joints.hpp"
+
+namespace hullpose::pose {
+
+struct BodyModel {
+  std::array<double, kNumBones> length_mm{};
+  std::array<double, kNumBones> radius_mm{};
+
+  // Table 6.7's bone ratios and the prior radius ratios below, scaled to `stature_mm`.
+  static BodyModel from_stature(double stature_mm);
+  // The least-squares stature of the bone lengths under Table 6.7's ratios (the eval's
+  // stature_from_joints applied to the model).
+  double stature_mm() const;
+};
+
+// Capsule radius of each bone in statures before any frame is measured: half the typical
+// adult girth of the segment (neck ~380 mm, head ~560 mm, upper arm ~300 mm, forearm ~250 mm,
+// chest ~950 mm, thigh ~550 mm, calf ~370 mm at 1750 mm stature) divided by 2 pi. Only a
+// starting point: the estimator replaces them with the radii the hull shows, which are larger
+// (a visual hull is a superset of the body).
+double prior_radius_ratio(int bone);
+
+// A bone's capsule axis. Terminal bones end at the body's surface (crown, finger tip, toe tip),
+// not inside it: their axis stops one radius short of the end joint, so the cap reaches it.
+bool is_terminal(int bone);
+// The end of the capsule axis of `bone` from `parent` towards `child` (radius `r`).
+Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen::Vector3d& child,
+                            double r);
+
+struct BodyModelParams {
+  // Frames averaged with equal weight before the model is held; afterwards each frame moves
+  // it by 1/refine_frames (slow refinement: a bad frame cannot pull it far).
+  int converge_frames = 60;  // 2 s at 30 fps: "converging within the first seconds"
+  int refine_frames = 600;   // 20 s
+  // A bone length or a radius may leave its prior by at most these factors. Bone lengths: the
+  // CMU subjects' forearms are 0.7 of Table 6.7's and their upper arms 1.2; beyond 0.6..1.5 the
+  // measurement, not the body, is wrong.
+  double min_scale = 0.6, max_scale = 1.5;
+  double min_radius_factor = 0.6, max_radius_factor = 2.5;
+};
+
+// Running estimate of the subject's model: bone length scales (relative to Table 6.7 at the
+// reference stature) and radii, each a running mean of per-frame measurements, left and right
+// bones of a pair averaged (one body).
+class BodyModelEstimator {
+ public:
+  explicit BodyModelEstimator(BodyModelParams params = {});
+  void reset(double reference_stature_mm);
+  bool started() const { return reference_mm_ > 0; }
+  // One confident frame's measurements: the bone length ratios shown by the hull (measured /
+  // model length, NaN where not measured) and each bone's mean surface distance (mm, NaN
+  // where not measured).
+  void add(const std::array<double, kNumBones>& length_ratio,
+           const std::array<double, kNumBones>& radius_mm);
+  const BodyModel& model() const { return model_; }
+  int frames() const { return frames_; }
+
+ private:
+  void rebuild();
+  BodyModelParams params_;
+  double reference_mm_ = 0;
+  std::array<double, kNumBones> scale_{};
+  std::array<int, kNumBones> scale_n_{};
+  std::array<double, kNumBones> radius_{};
+  std::array<int, kNumBones> radius_n_{};
+  int frames_ = 0;
+  BodyModel model_;
+};
+
+}  // namespace hullpose::pose

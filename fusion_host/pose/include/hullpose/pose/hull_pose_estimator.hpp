@@ -1,0 +1,95 @@
+#pragma once
+// The fusion host's pose stage: one frame's hull and curve skeleton in, 25 joints out.
+//
+// Two ways, chosen by HullPoseParams::mode (`--pose`):
+// - bottom-up: the thesis' per-frame path alone (PoseEstimator: tree, labels, SHAKE);
+// - track (default): the bottom-up path acquires and re-acquires; between, the subject's body
+//   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
+//   every frame the tracked pose is scored against the hull beside the bottom-up one (when
+//   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
+//   tracked pose no longer explains it (drift). Output through a causal One Euro filter.
+//
+// Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
+// at steady state.
+#include <Eigen/Core>
+#include <span>
+
+#include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/fusion/bit_grid.hpp"
+#include "hullpose/pose/body_model.hpp"
+#include "hullpose/pose/hull_tracker.hpp"
+#include "hullpose/pose/one_euro.hpp"
+#include "hullpose/pose/pose_estimator.hpp"
+
+namespace hullpose::pose {
+
+enum class PoseMode { kBottomUp, kTrack };
+// "bottom-up" or "track"; throws hullpose::Error naming `what` otherwise.
+PoseMode parse_pose_mode(const std::string& value, const char* what = "--pose");
+
+struct ArbiterParams {
+  // Scores (HullScore::value(), 0..1) are compared relative to the running median of the
+  // tracked score, so the thresholds hold whatever the rig's hull quality: a frame is valid
+  // when its score reaches valid_fraction of it, and the bottom-up pose is tried as a
+  // replacement when the tracked score falls below check_fraction of it (or every
+  // check_every frames, to catch a wrong pose that still scores well, e.g. limbs swapped).
+  double valid_fraction = 0.85;
+  double check_fraction = 0.9;
+  int check_every = 15;  // 0.5 s at 30 fps
+  // The bottom-up candidate replaces the tracked pose when it scores this much higher (a
+  // hysteresis: two equally good poses do not alternate).
+  double switch_margin = 0.02;
+  // Without a median yet (acquisition), a score must reach this absolute floor.
+  double min_score = 0.5;
+  // Body-model measurements come from frames scoring at least this fraction of the median whose
+  // bottom-up pose lies within model_agree_ratio statures of the tracked one (mean joint
+  // distance; the two differ by ~30 mm on a good frame from the proportions alone).
+  double model_fraction = 1.0;
+  double model_agree_ratio = 0.04;
+  double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
+};
+
+struct HullPoseParams {
+  PoseMode mode = PoseMode::kTrack;
+  PoseParams bottom_up;
+  TrackParams track;
+  BodyModelParams body;
+  ArbiterParams arbiter;
+  OneEuroParams filter;
+};
+
+class HullPoseEstimator {
+ public:
+  static constexpr int kScoreWindow = 64;
+
+  explicit HullPoseEstimator(HullPoseParams params = {});
+  // `hull` is the cleaned hull of the frame (nullptr when fusion failed), `skeleton` its
+  // curve-skeleton voxels (empty then), both in `grid`.
+  const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton,
+                               const fusion::BitGrid* hull, const VoxelGridSpec& grid);
+  const PoseEstimate& last() const { return out_; }
+  const BodyModel& body_model() const { return body_.model(); }
+  const PoseEstimator& bottom_up() const { return bottom_up_; }
+  // Tracking-only diagnostics of the last frame.
+  bool reacquired() const { return reacquired_; }
+  double score() const { return score_; }
+
+ private:
+  bool try_candidate(const JointPositions& detected, double tracked_score);
+
+  HullPoseParams params_;
+  PoseEstimator bottom_up_;
+  HullSurface surface_;
+  HullTracker tracker_, candidate_;
+  BodyModelEstimator body_;
+  OneEuroFilter filter_;
+  PoseEstimate out_;
+  bool reacquired_ = false;
+  JointPositions last_output_{};
+  bool has_output_ = false;
+  double score_ = 0, median_score_ = 0;
+  int frames_since_check_ = 0;
+  RunningMedian<kScoreWindow> score_median_;
+};
+
+}  // namespace hullpose::pose

@@ -1,0 +1,113 @@
+#include "hullpose/pose/body_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hullpose::pose {
+
+double prior_radius_ratio(int bone) {
+  // kBones order (common/joints.hpp); see the header for the girths behind these.
+  static constexpr std::array<double, kNumBones> kRatio = {
+      0.034, 0.034,                // neck
+      0.050,                       // head
+      0.045, 0.045,                // shoulders (the upper chest beside the neck)
+      0.027, 0.027, 0.023, 0.023,  // upper and lower arms
+      0.018, 0.018,                // hands
+      0.075, 0.075, 0.075,         // thorax, upper and lower spine
+      0.055, 0.055,                // hips (the pelvis)
+      0.050, 0.050, 0.034, 0.034,  // thighs, lower legs
+      0.025, 0.025, 0.020, 0.020,  // feet, toes
+  };
+  return kRatio[static_cast<size_t>(bone)];
+}
+
+bool is_terminal(int bone) {
+  const Joint c = kBones[static_cast<size_t>(bone)].child;
+  return c == Joint::HeadTop || c == Joint::LFTip || c == Joint::RFTip || c == Joint::LToe ||
+         c == Joint::RToe;
+}
+
+Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen::Vector3d& child,
+                            double r) {
+  if (!is_terminal(bone)) return child;
+  const Eigen::Vector3d d = child - parent;
+  const double len = d.norm();
+  return len > r ? Eigen::Vector3d(child - d * (r / len)) : parent;
+}
+
+BodyModel BodyModel::from_stature(double stature_mm) {
+  BodyModel m;
+  for (int b = 0; b < kNumBones; ++b) {
+    m.length_mm[b] = kBones[b].stature_ratio * stature_mm;
+    m.radius_mm[b] = prior_radius_ratio(b) * stature_mm;
+  }
+  return m;
+}
+
+double BodyModel::stature_mm() const {
+  double num = 0, den = 0;
+  for (int b = 0; b < kNumBones; ++b) {
+    num += kBones[b].stature_ratio * length_mm[b];
+    den += kBones[b].stature_ratio * kBones[b].stature_ratio;
+  }
+  return num / den;
+}
+
+namespace {
+// Left and right are one body: both bones of a pair share one estimate, kept at the left bone
+// (kBones lists a pair's left bone first; neck, head and spine have no twin).
+int shared_index(int bone) {
+  const bool right_of_pair =
+      (bone >= 4 && bone <= 10 && bone % 2 == 0) || (bone >= 15 && bone % 2 == 1);
+  return right_of_pair ? bone - 1 : bone;
+}
+}  // namespace
+
+BodyModelEstimator::BodyModelEstimator(BodyModelParams params) : params_(params) {}
+
+void BodyModelEstimator::reset(double reference_stature_mm) {
+  reference_mm_ = reference_stature_mm;
+  scale_.fill(1.0);
+  scale_n_.fill(0);
+  for (int b = 0; b < kNumBones; ++b) radius_[b] = prior_radius_ratio(b) * reference_stature_mm;
+  radius_n_.fill(0);
+  frames_ = 0;
+  rebuild();
+}
+
+void BodyModelEstimator::add(const std::array<double, kNumBones>& length_ratio,
+                             const std::array<double, kNumBones>& radius_mm) {
+  if (!started()) return;
+  ++frames_;
+  // Equal weights while converging (a running mean), then a fixed small rate.
+  auto step = [&](double& value, int& n, double measured) {
+    ++n;
+    const double rate = 1.0 / (n <= params_.converge_frames ? n : params_.refine_frames);
+    value += rate * (measured - value);
+  };
+  for (int b = 0; b < kNumBones; ++b) {
+    const int s = shared_index(b);
+    if (std::isfinite(length_ratio[b])) {
+      // The ratio was measured against the current model: the bone's absolute scale is the
+      // current scale times the ratio (so the mean converges to the measured length, not 1).
+      step(scale_[s], scale_n_[s],
+           std::clamp(scale_[s] * length_ratio[b], params_.min_scale, params_.max_scale));
+    }
+    if (std::isfinite(radius_mm[b])) {
+      const double prior = prior_radius_ratio(b) * reference_mm_;
+      step(radius_[s], radius_n_[s],
+           std::clamp(radius_mm[b], params_.min_radius_factor * prior,
+                      params_.max_radius_factor * prior));
+    }
+  }
+  rebuild();
+}
+
+void BodyModelEstimator::rebuild() {
+  for (int b = 0; b < kNumBones; ++b) {
+    model_.length_mm[b] = kBones[b].stature_ratio * reference_mm_ * scale_[shared_index(b)];
+    model_.radius_mm[b] = radius_[shared_index(b)];
+  }
+}
+
+}  // namespace hullpose::pose

@@ -1,0 +1,134 @@
+#include "hullpose/pose/hull_pose_estimator.hpp"
+
+#include <algorithm>
+#include <hullpose_msg/skeleton_t.hpp>
+
+#include "hullpose/common/check.hpp"
+#include "hullpose/common/time.hpp"
+
+namespace hullpose::pose {
+namespace {
+using Msg = hullpose_msg::skeleton_t;
+}  // namespace
+
+PoseMode parse_pose_mode(const std::string& value, const char* what) {
+  if (value == "bottom-up") return PoseMode::kBottomUp;
+  if (value == "track") return PoseMode::kTrack;
+  HULLPOSE_THROW(what << ": expected bottom-up or track, got '" << value << "'");
+}
+
+HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
+    : params_(params),
+      bottom_up_(params.bottom_up),
+      surface_(params.track.max_points),
+      tracker_(params.track),
+      candidate_(params.track),
+      body_(params.body),
+      filter_(params.filter) {}
+
+// Tracks from the bottom-up pose on a second tracker; takes it over when it explains the hull
+// clearly better than the tracked pose.
+bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tracked_score) {
+  candidate_.start(detected);
+  const TrackResult& c = candidate_.track(surface_, body_.model(), {&detected});
+  if (c.score.value() <= tracked_score + params_.arbiter.switch_margin) return false;
+  tracker_ = candidate_;
+  return true;
+}
+
+const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton,
+                                                const fusion::BitGrid* hull,
+                                                const VoxelGridSpec& grid) {
+  const PoseEstimate& det = bottom_up_.estimate(skeleton, grid);
+  if (params_.mode == PoseMode::kBottomUp) {
+    out_ = det;
+    return out_;
+  }
+  StageTimer timer;
+  const ArbiterParams& a = params_.arbiter;
+  reacquired_ = false;
+  out_ = det;  // reason, detail, timings of the bottom-up path; overwritten below when tracking
+  surface_.extract(hull, grid);  // nullptr: no surface
+  // The body model starts at the bottom-up path's running stature, restarting on each valid
+  // frame until that median has settled (one frame's stature can be far off).
+  const bool settling = bottom_up_.stature_frames() <= params_.bottom_up.stature_settle_frames;
+  if (det.valid && (!body_.started() || settling)) body_.reset(det.stature_mm);
+  if (!body_.started()) return out_;
+  if (!tracker_.active()) {
+    if (!det.valid) {
+      out_.fit_us += timer.elapsed_us();
+      return out_;
+    }
+    tracker_.start(det.joints_mm);
+    reacquired_ = true;
+  }
+  const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
+  const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
+  const bool have_median = score_median_.count() >= 8;
+  ++frames_since_check_;
+  bool candidate_tried = false;
+  if (detected != nullptr && !reacquired_ &&
+      (!have_median || r->score.value() < a.check_fraction * median_score_ ||
+       frames_since_check_ >= a.check_every)) {
+    frames_since_check_ = 0;
+    candidate_tried = true;
+    if (try_candidate(*detected, r->score.value())) {
+      reacquired_ = true;
+      r = &tracker_.result();
+    }
+  }
+  score_ = r->score.value();
+  const double floor = have_median ? a.valid_fraction * median_score_ : a.min_score;
+  const bool cut_off = surface_.touches_edge();
+  const bool tracked_ok = !surface_.empty() && score_ >= std::max(floor, 0.0) && !cut_off;
+  // The bottom-up path's acceptance stands: when the tracked pose no longer explains the hull
+  // and a valid detection exists, the tracker was lost: it restarts from the detection, refined
+  // on the hull. Tracking adds frames the bottom-up path misses; it never vetoes one it reads.
+  if (!tracked_ok && detected != nullptr && !reacquired_) {
+    if (!candidate_tried) {
+      candidate_.start(*detected);
+      candidate_.track(surface_, body_.model(), {detected});
+    }
+    tracker_ = candidate_;
+    r = &tracker_.result();
+    reacquired_ = true;
+    score_ = r->score.value();
+  }
+  const bool good = tracked_ok || det.valid;
+  // The score's typical level follows the motion (a cartwheel explains its hull less well than
+  // standing): every published frame counts.
+  if (good) median_score_ = score_median_.add(score_);
+  // The body model learns from confident frames only: the tracked pose explains the hull as well
+  // as usual and the independent bottom-up reading agrees with it.
+  const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <
+                                                a.model_agree_ratio * body_.model().stature_mm();
+  if (tracked_ok && agree && score_ >= a.model_fraction * median_score_)
+    body_.add(r->length_ratio, r->radius_mm);
+
+  // A re-acquisition that moves the pose as far as paper 6's jump threshold starts the filter
+  // afresh (smoothing across it would drag the old pose along); a smaller one is smoothed.
+  const bool jumped =
+      has_output_ && mean_displacement(r->joints, last_output_) > params_.bottom_up.jump_mean_mm;
+  out_.joints_mm = r->joints;
+  if (jumped) filter_.reset();
+  filter_.apply(out_.joints_mm, a.frame_s);
+  last_output_ = out_.joints_mm;
+  has_output_ = true;
+  out_.confidence = r->confidence;
+  out_.has_pose = true;
+  out_.stature_mm = body_.model().stature_mm();
+  out_.valid = good;
+  if (good) {
+    out_.reason = Msg::REASON_OK;
+    out_.detail = "";
+  } else if (det.valid || det.reason == Msg::REASON_OK) {
+    out_.reason = Msg::REASON_FIT_FAILED;
+    out_.detail =
+        cut_off ? "hull cut off by the capture volume" : "tracked pose does not explain the hull";
+  }
+  if (!good) out_.confidence.fill(0);
+  out_.fit_us += timer.elapsed_us();
+  return out_;
+}
+
+}  // namespace hullpose::pose

@@ -1,0 +1,335 @@
+#include "hullpose/pose/hull_tracker.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace hullpose::pose {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Bone sampling points for the inside test: the axis at these fractions.
+constexpr std::array<float, 3> kInsideSamples = {0.2f, 0.5f, 0.8f};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// HullSurface
+
+HullSurface::HullSurface(int max_points) : points_(static_cast<size_t>(std::max(1, max_points))) {}
+
+void HullSurface::extract(const fusion::BitGrid* hull_or_null, const VoxelGridSpec& grid) {
+  hull_ = hull_or_null;
+  grid_ = grid;
+  count_ = 0;
+  touches_edge_ = false;
+  if (hull_ == nullptr) return;
+  const fusion::BitGrid& hull = *hull_;
+  const Eigen::Vector3i d = hull.dims();
+  const int wpr = hull.words_per_row();
+  if (d.minCoeff() <= 0) return;
+  if (wpr > 4) return;  // > 256 voxels along x: not a capture grid this stage supports
+  static const uint64_t kZero[4] = {0, 0, 0, 0};
+  auto row_or_zero = [&](int y, int z) -> const uint64_t* {
+    return (y < 0 || z < 0 || y >= d.y() || z >= d.z()) ? kZero : hull.row(y, z);
+  };
+  // Surface words of row (y, z): set voxels with an unset 6-neighbour (outside = unset).
+  auto surface_word = [&](const uint64_t* r, int w, int y, int z) {
+    const uint64_t v = r[w];
+    if (v == 0) return uint64_t{0};
+    const uint64_t lo = w > 0 ? r[w - 1] >> 63 : 0, hi = w + 1 < wpr ? r[w + 1] << 63 : 0;
+    uint64_t in = v & ((v << 1) | lo) & ((v >> 1) | hi);
+    for (const uint64_t* n : {row_or_zero(y - 1, z), row_or_zero(y + 1, z), row_or_zero(y, z - 1),
+                              row_or_zero(y, z + 1)})
+      in &= n[w];
+    return v & ~in;
+  };
+  const uint64_t last_mask = d.x() % 64 == 0 ? ~uint64_t{0} : (uint64_t{1} << (d.x() % 64)) - 1;
+  // Pass 1: count (and whether the hull reaches the sides or the top of the grid).
+  size_t total = 0;
+  for (int z = 0; z < d.z(); ++z)
+    for (int y = 0; y < d.y(); ++y) {
+      const uint64_t* r = hull.row(y, z);
+      const bool side_row = y == 0 || y == d.y() - 1 || z == d.z() - 1;
+      for (int w = 0; w < wpr; ++w) {
+        if (r[w] == 0) continue;
+        if (side_row || (w == 0 && (r[w] & 1)) ||
+            (w == wpr - 1 && (r[w] >> ((d.x() - 1) % 64) & 1)))
+          touches_edge_ = true;
+        total += static_cast<size_t>(
+            std::popcount(surface_word(r, w, y, z) & (w == wpr - 1 ? last_mask : ~uint64_t{0})));
+      }
+    }
+  if (total == 0) return;
+  // Pass 2: every stride-th surface voxel (an even spread over the body in scan order).
+  const size_t stride = (total + points_.size() - 1) / points_.size();
+  size_t seen = 0;
+  for (int z = 0; z < d.z(); ++z)
+    for (int y = 0; y < d.y(); ++y) {
+      const uint64_t* r = hull.row(y, z);
+      for (int w = 0; w < wpr; ++w) {
+        uint64_t bits = surface_word(r, w, y, z) & (w == wpr - 1 ? last_mask : ~uint64_t{0});
+        for (; bits != 0; bits &= bits - 1) {
+          if (seen++ % stride != 0 || count_ == points_.size()) continue;
+          const Eigen::Vector3i v(w * 64 + std::countr_zero(bits), y, z);
+          points_[count_++] = grid.centre_mm(v).cast<float>();
+        }
+      }
+    }
+}
+
+bool HullSurface::inside(const Eigen::Vector3d& mm) const {
+  if (hull_ == nullptr) return false;
+  const Eigen::Vector3d v = (mm - grid_.origin_mm) / grid_.voxel_mm;
+  const int x = static_cast<int>(std::floor(v.x())), y = static_cast<int>(std::floor(v.y())),
+            z = static_cast<int>(std::floor(v.z()));
+  return hull_->get_or_zero(x, y, z);
+}
+
+// ---------------------------------------------------------------------------------------------
+// HullTracker
+
+HullTracker::HullTracker(TrackParams params) : params_(params) {
+  // Tips heavier, as in the bottom-up fit: bone corrections move inner joints.
+  for (Joint j : {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe, Joint::RToe})
+    shake_.set_mass(j, 4);
+}
+
+void HullTracker::start(const JointPositions& pose) {
+  previous_ = pose;
+  has_velocity_ = false;
+  active_ = true;
+}
+
+// The surface voxels' centres lie half a voxel inside the hull's surface: the capsules are
+// compared with them at their radius less half a voxel (else every cap pushes its bone inwards:
+// the head down, the feet up).
+void HullTracker::load_capsules(const BodyModel& model, const JointPositions& pose,
+                                double voxel_mm) const {
+  for (int b = 0; b < kNumBones; ++b) {
+    const Eigen::Vector3d& a = pose[index(kBones[b].parent)];
+    const Eigen::Vector3d ab =
+        capsule_end(b, a, pose[index(kBones[b].child)], model.radius_mm[b]) - a;
+    cap_.ax[b] = static_cast<float>(a.x());
+    cap_.ay[b] = static_cast<float>(a.y());
+    cap_.az[b] = static_cast<float>(a.z());
+    cap_.bx[b] = static_cast<float>(ab.x());
+    cap_.by[b] = static_cast<float>(ab.y());
+    cap_.bz[b] = static_cast<float>(ab.z());
+    cap_.inv_len2[b] = ab.squaredNorm() > 1e-9 ? static_cast<float>(1 / ab.squaredNorm()) : 0.0f;
+    cap_.radius[b] = static_cast<float>(std::max(0.0, model.radius_mm[b] - 0.5 * voxel_mm));
+  }
+}
+
+HullTracker::Hit HullTracker::nearest(const Eigen::Vector3f& p) const {
+  // Signed distance to every capsule's surface (branch-free, vectorised), then the least.
+  alignas(32) std::array<float, kNumBones> dist, along;
+  const float px = p.x(), py = p.y(), pz = p.z();
+  for (int b = 0; b < kNumBones; ++b) {
+    const float dx = px - cap_.ax[b], dy = py - cap_.ay[b], dz = pz - cap_.az[b];
+    float t = (dx * cap_.bx[b] + dy * cap_.by[b] + dz * cap_.bz[b]) * cap_.inv_len2[b];
+    t = std::min(1.0f, std::max(0.0f, t));
+    const float ex = dx - t * cap_.bx[b], ey = dy - t * cap_.by[b], ez = dz - t * cap_.bz[b];
+    dist[b] = std::sqrt(ex * ex + ey * ey + ez * ez) - cap_.radius[b];
+    along[b] = t;
+  }
+  int best = 0;
+  for (int b = 1; b < kNumBones; ++b)
+    if (dist[b] < dist[best]) best = b;
+  Hit hit;
+  hit.bone = best;
+  hit.t = along[best];
+  hit.distance = dist[best];
+  hit.axis_point = Eigen::Vector3f(cap_.ax[best] + along[best] * cap_.bx[best],
+                                   cap_.ay[best] + along[best] * cap_.by[best],
+                                   cap_.az[best] + along[best] * cap_.bz[best]);
+  return hit;
+}
+
+void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
+                      const JointPositions& prior, Detected detected) {
+  JointPositions& x = result_.joints;
+  shake_.set_bone_lengths(model.length_mm);
+  const double stature = model.stature_mm();
+  const double sigma = params_.sigma_voxels * surface.voxel_mm() + params_.sigma_mm;
+  const double gate = params_.gate_ratio * stature;
+  const auto points = surface.points();
+  for (int it = 0; it < params_.iterations; ++it) {
+    load_capsules(model, x, surface.voxel_mm());
+    support_.fill(0);
+    for (auto& p : pull_) p.setZero();
+    bone_points_.fill(0);
+    // Coarse to fine: the first iterations take every coarse_stride-th point (the large moves
+    // need few), the last fine_iterations all of them.
+    const size_t stride =
+        it + params_.fine_iterations < params_.iterations ? params_.coarse_stride : 1;
+    for (size_t k = 0; k < points.size(); k += stride) {
+      const Eigen::Vector3f& p = points[k];
+      const Hit h = nearest(p);
+      if (h.bone < 0 || std::abs(h.distance) > gate) continue;
+      const Eigen::Vector3d radial = (p - h.axis_point).cast<double>();
+      const double rn = radial.norm();
+      if (rn < 1e-3) continue;
+      // Move the axis so the point lies on the capsule's surface.
+      const Eigen::Vector3d e = radial * (h.distance / rn);
+      const double w = 1.0 / (1.0 + (h.distance / sigma) * (h.distance / sigma));
+      const int pj = index(kBones[h.bone].parent), cj = index(kBones[h.bone].child);
+      const double wc = w * h.t, wp = w * (1 - h.t);
+      pull_[pj] += wp * e;
+      pull_[cj] += wc * e;
+      support_[pj] += wp;
+      support_[cj] += wc;
+      ++bone_points_[h.bone];
+    }
+    shake_.clear_targets();
+    for (int j = 0; j < kNumJoints; ++j) {
+      shake_.add_point(static_cast<Joint>(j), prior[j], params_.prior_weight);
+      if (support_[j] > 0)
+        shake_.add_point(static_cast<Joint>(j), x[j] + pull_[j] / support_[j],
+                         support_[j] / (support_[j] + params_.full_support_points));
+    }
+    if (detected.joints != nullptr) {
+      for (Joint j : {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe, Joint::RToe}) {
+        const Eigen::Vector3d& d = (*detected.joints)[index(j)];
+        if ((d - x[index(j)]).norm() <= params_.detect_agree_ratio * stature)
+          shake_.add_point(j, d, params_.detect_weight);
+      }
+    }
+    const JointPositions before = x;
+    shake_.solve(x, params_.shake);
+    double moved = 0;
+    for (int j = 0; j < kNumJoints; ++j) moved = std::max(moved, (x[j] - before[j]).norm());
+    if (stride == 1 && moved < params_.converged_voxels * surface.voxel_mm()) break;
+  }
+}
+
+void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
+  const JointPositions& x = result_.joints;
+  load_capsules(model, x, surface.voxel_mm());
+  radial_sum_.fill(0);
+  radial_n_.fill(0);
+  bone_points_.fill(0);
+  support_.fill(0);
+  for (auto& p : pull_) p.setZero();
+  const double explained_mm = params_.explained_voxels * surface.voxel_mm() + params_.sigma_mm;
+  const double gate = params_.gate_ratio * model.stature_mm();
+  int explained = 0;
+  const auto points = surface.points();
+  for (const Eigen::Vector3f& p : points) {
+    const Hit h = nearest(p);
+    if (h.bone < 0) continue;
+    if (std::abs(h.distance) <= explained_mm) {
+      ++explained;
+      ++bone_points_[h.bone];
+    }
+    if (std::abs(h.distance) > gate) continue;
+    const Eigen::Vector3d radial = (p - h.axis_point).cast<double>();
+    const double rn = radial.norm();
+    if (rn < 1e-3) continue;
+    const int pj = index(kBones[h.bone].parent), cj = index(kBones[h.bone].child);
+    const Eigen::Vector3d e = radial * (h.distance / rn);
+    pull_[pj] += (1 - h.t) * e;
+    pull_[cj] += h.t * e;
+    support_[pj] += 1 - h.t;
+    support_[cj] += h.t;
+    // Radii from the middle of the bone (near joints the neighbours' capsules compete).
+    if (h.t > 0.25 && h.t < 0.75 && !is_terminal(h.bone)) {
+      radial_sum_[h.bone] += rn + 0.5 * surface.voxel_mm();
+      ++radial_n_[h.bone];
+    }
+  }
+  result_.score.explained =
+      points.empty() ? 0 : static_cast<double>(explained) / static_cast<double>(points.size());
+  result_.score.inside = inside_fraction(surface, x);
+
+  // Bone lengths the hull shows: the distance between the bone's joints' targets (joint + mean
+  // pull of the points around it) relative to the model. Points beside a bone pull across it and
+  // say little; a bend (the elbow between two arm capsules) and a tip's cap say how long it is.
+  for (int b = 0; b < kNumBones; ++b) {
+    const int pj = index(kBones[b].parent), cj = index(kBones[b].child);
+    result_.length_ratio[b] = kNaN;
+    if (support_[pj] < params_.full_support_points || support_[cj] < params_.full_support_points)
+      continue;
+    result_.length_ratio[b] =
+        ((x[pj] + pull_[pj] / support_[pj]) - (x[cj] + pull_[cj] / support_[cj])).norm() /
+        model.length_mm[b];
+  }
+  for (int b = 0; b < kNumBones; ++b)
+    result_.radius_mm[b] =
+        radial_n_[b] >= params_.full_support_points ? radial_sum_[b] / radial_n_[b] : kNaN;
+
+  // Confidence: the share of the surface each bone explains against its share of the model's
+  // surface area (a merged or hidden limb explains little), times the frame's score.
+  double area = 0;
+  std::array<double, kNumBones> bone_area{};
+  for (int b = 0; b < kNumBones; ++b) {
+    bone_area[b] = model.radius_mm[b] * (model.length_mm[b] + model.radius_mm[b]);
+    area += bone_area[b];
+  }
+  std::array<double, kNumJoints> conf_sum{}, conf_n{};
+  for (int b = 0; b < kNumBones; ++b) {
+    const double expected = explained * bone_area[b] / area;
+    const double c = expected > 0 ? std::min(1.0, 2.0 * bone_points_[b] / expected) : 0;
+    for (Joint j : {kBones[b].parent, kBones[b].child}) {
+      conf_sum[index(j)] += c;
+      conf_n[index(j)] += 1;
+    }
+  }
+  const double frame = result_.score.value();
+  for (int j = 0; j < kNumJoints; ++j)
+    result_.confidence[j] =
+        static_cast<float>(frame * (conf_n[j] > 0 ? conf_sum[j] / conf_n[j] : 0));
+}
+
+double HullTracker::inside_fraction(const HullSurface& surface, const JointPositions& pose) {
+  int in = 0, n = 0;
+  for (int b = 0; b < kNumBones; ++b) {
+    const Eigen::Vector3d& a = pose[index(kBones[b].parent)];
+    const Eigen::Vector3d& c = pose[index(kBones[b].child)];
+    for (float t : kInsideSamples) {
+      in += surface.inside(a + t * (c - a));
+      ++n;
+    }
+  }
+  return static_cast<double>(in) / n;
+}
+
+HullScore HullTracker::score(const HullSurface& surface, const BodyModel& model,
+                             const JointPositions& pose) const {
+  HullScore s;
+  s.inside = inside_fraction(surface, pose);
+  const auto points = surface.points();
+  if (points.empty()) return s;
+  load_capsules(model, pose, surface.voxel_mm());
+  const double explained_mm = params_.explained_voxels * surface.voxel_mm() + params_.sigma_mm;
+  int explained = 0;
+  for (const Eigen::Vector3f& p : points)
+    explained += std::abs(nearest(p).distance) <= explained_mm;
+  s.explained = static_cast<double>(explained) / static_cast<double>(points.size());
+  return s;
+}
+
+const TrackResult& HullTracker::track(const HullSurface& surface, const BodyModel& model,
+                                      Detected detected) {
+  // Prediction: previous pose plus the damped, capped velocity.
+  JointPositions predicted = previous_;
+  if (has_velocity_) {
+    const double cap = params_.max_step_ratio * model.stature_mm();
+    for (int j = 0; j < kNumJoints; ++j) {
+      Eigen::Vector3d v = params_.velocity_damping * (previous_[j] - before_previous_[j]);
+      if (v.norm() > cap) v *= cap / v.norm();
+      predicted[j] += v;
+    }
+  }
+  result_.joints = predicted;
+  if (!surface.empty()) fit(surface, model, predicted, detected);
+  measure(surface, model);
+  before_previous_ = previous_;
+  previous_ = result_.joints;
+  has_velocity_ = true;
+  return result_;
+}
+
+}  // namespace hullpose::pose

@@ -1,0 +1,166 @@
+// Fusion core benchmarks on real hulls (issue 15), one frame per iteration in turn:
+//   crane/carve/128    carving the real crane capture (8 cameras, 1600x1200, 8 frames spread over
+//                      its 120), 1 thread                    peer: crane/carve_brute/128
+//   crane/thin/128     CK3 on the cleaned crane hulls, 1 thread
+//   crane/fusion/128   carve + clean-up + CK3 + skeleton list, 1 thread (goal: 2.5 ms)
+//   rig20/fusion/128   the same on 20 cameras at 1024x768 (19 on a ring + 1 in the ceiling,
+//                      CMU 55_01 rendered by hullpose_synth), 1 thread (goal: 8 ms)
+// Real silhouettes give rough hull surfaces (every camera's edge noise carves its own dents):
+// more border voxels and more thinning iterations than rendered ones of the same person.
+// Foreground boxes are given, as the silhouette codec's header gives them to the fusion host.
+#include <benchmark/benchmark.h>
+
+#include <ctime>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+
+#include "hullpose/fusion/fusion_core.hpp"
+#include "support/cmu_scene.hpp"
+#include "support/crane_scene.hpp"
+
+namespace {
+
+using namespace hullpose;
+namespace ft = hullpose::fusion::testing;
+
+struct Scene {
+  Rig rig;
+  std::vector<std::vector<cv::Mat>> views;   // [frame][camera]
+  std::vector<std::vector<PixelRoi>> boxes;  // foreground boxes
+  std::unique_ptr<carve::Carver> carver;
+  std::vector<fusion::BitGrid> hulls;  // carved and cleaned, per frame
+};
+
+double cpu_now_ms() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+std::unique_ptr<Scene> make_scene(Rig rig, std::vector<std::vector<cv::Mat>> views,
+                                  int resolution) {
+  auto s = std::make_unique<Scene>();
+  s->rig = std::move(rig);
+  s->views = std::move(views);
+  for (const auto& frame : s->views) {
+    auto& boxes = s->boxes.emplace_back();
+    for (const cv::Mat& v : frame) {
+      const cv::Rect r = cv::boundingRect(v);
+      boxes.push_back({r.x, r.y, r.width, r.height});
+    }
+  }
+  s->carver = std::make_unique<carve::Carver>(s->rig, carve::CarveOptions{resolution, 0, 1});
+  fusion::HullCleanup cleanup;
+  for (const auto& frame : s->views) {
+    carve::CarveReport report;
+    fusion::HullStats stats;
+    s->carver->carve(frame, s->hulls.emplace_back(), report);
+    cleanup.apply(s->hulls.back(), stats);
+  }
+  return s;
+}
+
+Scene& crane() {
+  static const std::unique_ptr<Scene> s = [] {
+    ft::CraneFrames c = ft::load_crane(8);
+    return make_scene(std::move(c.rig), std::move(c.views), 128);
+  }();
+  return *s;
+}
+
+Scene& rig20() {
+  static const std::unique_ptr<Scene> s = [] {
+    ft::CmuFrames c = ft::render_cmu_55_01(4, "ring:cameras=19,width=1024,rows=768");
+    return make_scene(std::move(c.rig), std::move(c.views), 128);
+  }();
+  return *s;
+}
+
+void carve_fast(benchmark::State& state, Scene& (*scene)()) {
+  Scene& s = scene();
+  fusion::BitGrid hull;
+  carve::CarveReport report;
+  size_t f = 0, voxels = 0;
+  const double cpu0 = cpu_now_ms();
+  for (auto _ : state) {
+    s.carver->carve(s.views[f], hull, report, s.boxes[f]);
+    voxels = report.voxels;
+    f = (f + 1) % s.views.size();
+  }
+  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / static_cast<double>(state.iterations());
+  state.counters["voxels"] = static_cast<double>(voxels);
+  state.SetLabel("peer=crane/carve_brute/128");
+}
+
+void carve_brute(benchmark::State& state, Scene& (*scene)()) {
+  Scene& s = scene();
+  fusion::BitGrid hull;
+  carve::CarveReport report;
+  size_t f = 0;
+  for (auto _ : state) {
+    s.carver->carve_brute_force(s.views[f], hull, report);
+    f = (f + 1) % s.views.size();
+  }
+}
+
+void thin_ck3(benchmark::State& state, Scene& (*scene)()) {
+  Scene& s = scene();
+  thin::Ck3Thinner thinner({thin::CurveRule::kCk3, thin::ZeroCliqueTest::kSpan3, 1, 0});
+  fusion::BitGrid v;
+  thin::ThinStats st;
+  size_t f = 0;
+  double iterations = 0, border = 0;
+  const double cpu0 = cpu_now_ms();
+  for (auto _ : state) {
+    v = s.hulls[f];
+    st = thinner.thin(v);
+    iterations += st.iterations;
+    border += static_cast<double>(st.visited);
+    f = (f + 1) % s.hulls.size();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / n;
+  state.counters["hull_voxels"] = static_cast<double>(st.initial_voxels);
+  state.counters["thin_iterations"] = iterations / n;
+  state.counters["visited"] = border / n;
+}
+
+void fusion_core(benchmark::State& state, Scene& (*scene)()) {
+  Scene& s = scene();
+  fusion::FusionOptions opt;
+  opt.resolution = 128;
+  opt.threads = 1;
+  opt.backend = gpu::Backend::kCpu;
+  fusion::FusionCore core(s.rig, opt);
+  double carve_ms = 0, thin_ms = 0, cleanup_ms = 0, iterations = 0;
+  size_t f = 0;
+  const double cpu0 = cpu_now_ms();
+  for (auto _ : state) {
+    const auto& r = core.process(s.views[f], s.boxes[f]);
+    f = (f + 1) % s.views.size();
+    carve_ms += r.timings.carve_ms;
+    cleanup_ms += r.timings.cleanup_ms;
+    thin_ms += r.timings.thin_ms;
+    iterations += r.thin.iterations;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / n;
+  state.counters["carve_ms"] = carve_ms / n;
+  state.counters["cleanup_ms"] = cleanup_ms / n;
+  state.counters["thin_ms"] = thin_ms / n;
+  state.counters["thin_iterations"] = iterations / n;
+}
+
+const bool registered = [] {
+  benchmark::RegisterBenchmark("crane/carve/128", carve_fast, crane)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("crane/carve_brute/128", carve_brute, crane)
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("crane/thin/128", thin_ck3, crane)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("crane/fusion/128", fusion_core, crane)
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("rig20/fusion/128", fusion_core, rig20)
+      ->Unit(benchmark::kMillisecond);
+  return true;
+}();
+
+}  // namespace

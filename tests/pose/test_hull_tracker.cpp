@@ -1,0 +1,148 @@
+// The hull tracker, the body model estimator and the One Euro filter on synthetic capsule
+// bodies (capsule_hull.hpp): what each promises, checked on shapes whose answer is known.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "capsule_hull.hpp"
+#include "hullpose/pose/hull_tracker.hpp"
+#include "hullpose/pose/one_euro.hpp"
+
+using namespace hullpose;
+using namespace hullpose::pose;
+using namespace hullpose::pose::test;
+
+namespace {
+constexpr double kStature = 1750;
+
+Limbs arms_down() {
+  Limbs l;
+  l.l_upper_arm = {0.25, 0, -1};
+  l.l_forearm = {0.2, 0.5, -1};
+  l.r_upper_arm = {-0.6, 0.2, -1};
+  l.r_forearm = {-0.3, 0.8, -0.4};
+  l.l_thigh = {0.05, 0.3, -1};
+  l.r_thigh = {-0.05, -0.2, -1};
+  return l;
+}
+}  // namespace
+
+TEST_CASE(
+    "hull surface: the shell of a solid, subsampled, and whether it reaches the grid's edge") {
+  const VoxelGridSpec g = grid_2m(32);
+  fusion::BitGrid hull(g.dims);
+  for (int z = 4; z < 12; ++z)
+    for (int y = 4; y < 12; ++y)
+      for (int x = 4; x < 12; ++x) hull.set(x, y, z);
+  HullSurface all(10000), few(50);
+  all.extract(&hull, g);
+  few.extract(&hull, g);
+  CHECK(all.points().size() == 8 * 8 * 8 - 6 * 6 * 6);  // the cube minus its interior
+  CHECK(few.points().size() <= 50);
+  CHECK(few.points().size() >= 40);  // an even stride, not a truncated scan
+  CHECK_FALSE(all.touches_edge());
+  CHECK(all.inside(g.centre_mm({8, 8, 8})));
+  CHECK_FALSE(all.inside(g.centre_mm({2, 2, 2})));
+  hull.set(0, 8, 8);
+  all.extract(&hull, g);
+  CHECK(all.touches_edge());
+  all.extract(nullptr, g);
+  CHECK(all.empty());
+}
+
+TEST_CASE("tracking pulls a displaced model back onto the hull of the true pose") {
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel model = BodyModel::from_stature(kStature);
+  JointPositions truth = stick_figure(kStature, arms_down(), {20, 0, 0, 0});
+  for (auto& p : truth) p.z() += 100;
+  fusion::BitGrid hull;
+  capsule_hull(g, truth, model, hull);
+  HullSurface surface(1000);
+  surface.extract(&hull, g);
+  // Start 60 mm off sideways with the left arm 25 degrees out.
+  JointPositions start = truth;
+  for (auto& p : start) p += Eigen::Vector3d(60, -30, 0);
+  HullTracker tracker;
+  tracker.start(start);
+  const double before = mean_error(start, truth);
+  double after = 0;
+  for (int f = 0; f < 4; ++f) after = mean_error(tracker.track(surface, model, {}).joints, truth);
+  INFO("mean joint error " << before << " -> " << after << " mm");
+  CHECK(after < 0.35 * before);
+  CHECK(after < 25);
+  const HullScore s = tracker.result().score;
+  CHECK(s.inside > 0.9);
+  CHECK(s.explained > 0.8);
+  // The pose that explains the hull scores higher than a displaced one.
+  CHECK(tracker.score(surface, model, truth).value() >
+        tracker.score(surface, model, start).value());
+}
+
+TEST_CASE("a limb the hull does not show stays where the model says, with low confidence") {
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel model = BodyModel::from_stature(kStature);
+  const JointPositions truth = stick_figure(kStature, arms_down(), {0, 0, 0, 0});
+  fusion::BitGrid hull;
+  capsule_hull(g, truth, model, hull);
+  HullSurface surface(1000);
+  surface.extract(&hull, g);
+  HullTracker tracker;
+  tracker.start(truth);
+  tracker.track(surface, model, {});
+  const float shown = tracker.result().confidence[index(Joint::RHand)];
+  // The right forearm and hand vanish from the hull (merged, or hidden from the cameras).
+  capsule_hull(g, truth, model, hull, {8, 10});
+  surface.extract(&hull, g);
+  for (int f = 0; f < 3; ++f) tracker.track(surface, model, {});
+  const TrackResult& r = tracker.result();
+  CHECK((r.joints[index(Joint::RHand)] - truth[index(Joint::RHand)]).norm() < 80);
+  CHECK(r.confidence[index(Joint::RHand)] < 0.5f * shown);
+  CHECK(r.confidence[index(Joint::LHand)] > 0.5f * shown);
+}
+
+TEST_CASE("the body model converges to what the frames measure, then moves slowly") {
+  BodyModelParams p;
+  p.converge_frames = 10;
+  p.refine_frames = 100;
+  BodyModelEstimator est(p);
+  est.reset(1600);
+  const int thigh = 16;
+  std::array<double, kNumBones> ratio, radius;
+  ratio.fill(std::nan(""));
+  radius.fill(std::nan(""));
+  // The thigh measures 10 % longer than Table 6.7 at 1600 mm, every frame.
+  for (int f = 0; f < 30; ++f) {
+    ratio[thigh] = 0.224 * 1600 * 1.1 / est.model().length_mm[thigh];
+    est.add(ratio, radius);
+  }
+  CHECK(est.model().length_mm[thigh] == Approx(0.224 * 1600 * 1.1).epsilon(0.01));
+  CHECK(est.model().length_mm[thigh + 1] == est.model().length_mm[thigh]);  // one body: both thighs
+  // One wild frame moves it by 1/refine_frames at most, clamped.
+  const double held = est.model().length_mm[thigh];
+  ratio[thigh] = 10;
+  est.add(ratio, radius);
+  CHECK(std::abs(est.model().length_mm[thigh] - held) < 0.01 * held);
+}
+
+TEST_CASE("One Euro: a still joint is smoothed, a moving one lags less than a frame") {
+  OneEuroFilter still_filter, moving_filter;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 3);
+  double raw = 0, filtered = 0;
+  const double dt = 1.0 / 30;
+  double lag_mm = 0;
+  for (int f = 0; f < 300; ++f) {
+    const double nx = noise(rng), ny = noise(rng), nz = noise(rng);  // named: a defined order
+    std::array<Eigen::Vector3d, 1> still{Eigen::Vector3d(nx, ny, nz)};
+    raw += still[0].squaredNorm();
+    still_filter.apply(still, dt);
+    if (f >= 30) filtered += still[0].squaredNorm();
+    // 1.5 m/s: 50 mm per frame.
+    std::array<Eigen::Vector3d, 1> moving{Eigen::Vector3d(50.0 * f, 0, 0)};
+    moving_filter.apply(moving, dt);
+    lag_mm = 50.0 * f - moving[0].x();
+  }
+  CHECK(std::sqrt(filtered / 270) < 0.5 * std::sqrt(raw / 300));
+  CHECK(lag_mm >= 0);
+  CHECK(lag_mm < 50);  // under one frame's motion
+}
