@@ -32,17 +32,20 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   const DatasetPaths paths(options.dataset);
   const Rig rig = load_rig(paths.rig());
   const DatasetMeta meta = read_meta(paths.meta());
-  const int frames = options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
+  const int frames =
+      options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
 
   Counters counters;
   fusion::FusionCore core(rig, options.fusion, &counters);
   pose::PoseEstimator estimator(options.pose);
   EstimateWriter writer(options.out);
   const std::filesystem::path timings_path =
-      options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv") : options.timings;
+      options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv")
+                              : options.timings;
   std::ofstream timings(timings_path);
   HULLPOSE_THROW_UNLESS(timings, timings_path << ": cannot open for writing");
-  timings << "frame,valid,reason,carve_ms,cleanup_ms,thin_ms,fusion_ms,tree_ms,fit_ms,total_ms,skeleton_voxels,"
+  timings << "frame,valid,reason,carve_ms,cleanup_ms,thin_ms,fusion_ms,tree_ms,fit_ms,total_ms,"
+             "skeleton_voxels,"
              "stature_mm\n";
 
   std::vector<cv::Mat> views(rig.cameras.size());
@@ -57,15 +60,22 @@ ReplaySummary run_replay(const ReplayOptions& options) {
         continue;
       }
       views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
-      HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
+      if (views[c].empty()) {  // corrupt or truncated: the camera is missing for this frame
+        counters.add("replay.mask_unreadable");
+        HULLPOSE_LOG(Replay, Warn)
+            << mask.string() << ": unreadable (corrupt or truncated): camera " << rig.cameras[c].id
+            << " missing in frame " << f;
+      }
     }
     const fusion::FusionResult& hull = core.process(views);
-    const pose::PoseEstimate& pose = hull.valid ? estimator.estimate(hull.skeleton_voxels, hull.grid)
-                                                : estimator.estimate({}, hull.grid);
+    const pose::PoseEstimate& pose = hull.valid
+                                         ? estimator.estimate(hull.skeleton_voxels, hull.grid)
+                                         : estimator.estimate({}, hull.grid);
     record.frame = f;
     record.valid = pose.valid;
     record.reason = pose.reason;
-    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews) record.reason = 1;  // REASON_TOO_FEW_CAMERAS
+    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews)
+      record.reason = 1;  // REASON_TOO_FEW_CAMERAS
     record.joints = pose.joints_mm;
     writer.write(record);
 
@@ -76,16 +86,21 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     tree.push_back(tree_ms);
     fit.push_back(fit_ms);
     total.push_back(hull.timings.total_ms + tree_ms + fit_ms);
-    timings << f << ',' << pose.valid << ',' << int{record.reason} << ',' << hull.timings.carve_ms << ','
-            << hull.timings.cleanup_ms << ',' << hull.timings.thin_ms << ',' << hull.timings.total_ms << ','
-            << tree_ms << ',' << fit_ms << ',' << total.back() << ',' << hull.skeleton_voxels.size() << ','
-            << pose.stature_mm << '\n';
+    timings << f << ',' << pose.valid << ',' << int{record.reason} << ',' << hull.timings.carve_ms
+            << ',' << hull.timings.cleanup_ms << ',' << hull.timings.thin_ms << ','
+            << hull.timings.total_ms << ',' << tree_ms << ',' << fit_ms << ',' << total.back()
+            << ',' << hull.skeleton_voxels.size() << ',' << pose.stature_mm << '\n';
     summary.valid += pose.valid;
     if (!pose.valid) {
       HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
     }
   }
   writer.flush();
+  for (const auto& [name, count] : counters.snapshot())
+    if (name == "replay.mask_unreadable" && count > 0) {
+      HULLPOSE_LOG(Replay, Warn) << count
+                                 << " unreadable masks: those cameras were missing in those frames";
+    }
   summary.frames = frames;
   summary.carve_ms = median(carve);
   summary.thin_ms = median(thin);
@@ -98,7 +113,8 @@ ReplaySummary run_replay(const ReplayOptions& options) {
 }
 
 bool is_replay_command(int argc, const char* const* argv) {
-  return std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--replay"; });
+  return std::any_of(argv + 1, argv + argc,
+                     [](const char* a) { return std::string_view(a) == "--replay"; });
 }
 
 std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv) {
@@ -106,11 +122,15 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
   options.fusion.resolution = 128;
   std::string dataset, out, timings;
   cli::CommandLine line(
-      "usage: hullpose-fusion-host --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
-      "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel]\n"
+      "usage: hullpose-fusion-host --replay DIR --out FILE [--resolution N] [--frames N] "
+      "[--threads N]\n"
+      "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
+      "ck3|isthmus|endvoxel]\n"
       "         [--timings FILE]\n"
-      "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the estimates\n"
-      "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve constraint\n"
+      "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the "
+      "estimates\n"
+      "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
+      "constraint\n"
       "(fusion_host/pose/README.md compares them).\n");
   line.option("--replay", dataset)
       .option("--out", out)
@@ -120,10 +140,13 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       .option("--threads", options.fusion.threads)
       .option("--skeletoniser",
               [&](const std::string& v) {
-                HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d", "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
-                options.fusion.skeletoniser = v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
+                HULLPOSE_THROW_UNLESS(v == "ck3" || v == "d6i1d",
+                                      "--skeletoniser: expected ck3 or d6i1d, got '" << v << "'");
+                options.fusion.skeletoniser =
+                    v == "ck3" ? fusion::Skeletoniser::kCk3 : fusion::Skeletoniser::kD6i1d;
               })
-      .option("--backend", [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
+      .option("--backend",
+              [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
       .option("--curve-rule", [&](const std::string& v) {
         if (v == "ck3") {
           options.fusion.curve_rule = thin::CurveRule::kCk3;
@@ -139,7 +162,8 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
     std::fputs(line.usage().c_str(), stdout);
     return std::nullopt;
   }
-  HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(), "--replay DIR and --out FILE are both needed");
+  HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(),
+                        "--replay DIR and --out FILE are both needed");
   options.dataset = dataset;
   options.out = out;
   options.timings = timings;
@@ -151,9 +175,11 @@ int replay_cli(int argc, const char* const* argv) {
   if (!options) return 0;
   const ReplaySummary s = run_replay(*options);
   std::printf(
-      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, \"thin\": %.3f, "
+      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, "
+      "\"thin\": %.3f, "
       "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",
-      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms, s.total_ms);
+      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms,
+      s.total_ms);
   return 0;
 }
 

@@ -56,11 +56,20 @@ std::string usage() {
          "  --rig-id ID              rig id written to the rig file (default: calibrated)\n"
          "  --min-views N            board views a camera needs for its intrinsics (default 8)\n"
          "  --fix-intrinsics         keep the per-camera intrinsics in the bundle adjustment\n"
+         "  --intrinsics RIG.yaml    known intrinsics (by camera id, e.g. hullpose-import rig): "
+         "only the\n"
+         "                           board poses and the extrinsics are estimated; one view per "
+         "camera\n"
+         "                           (the floor board) is enough\n"
+
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
          "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default "
          "2)\n"
          "  --report FILE            also write the report to FILE\n"
+         "  --compare RIG.yaml       how the result agrees with another calibration of the rig\n"
+         "                           (per camera centre mm, orientation deg, after aligning "
+         "frames)\n"
          "  --quiet                  no per-image feedback\n";
 }
 
@@ -88,6 +97,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cli.live.timeout_ms = to_int(flag, value());
     } else if (flag == "--out") {
       cli.out = value();
+    } else if (flag == "--compare") {
+      cli.compare = value();
     } else if (flag == "--report") {
       cli.report = value();
     } else if (flag == "--board") {
@@ -111,6 +122,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cli.options.rig_id = value();
     } else if (flag == "--min-views") {
       cli.options.intrinsics.min_views = to_int(flag, value());
+    } else if (flag == "--intrinsics") {
+      for (const CameraModel& c : load_rig(value()).cameras) cli.options.known_intrinsics[c.id] = c;
     } else if (flag == "--fix-intrinsics") {
       cli.options.refine_intrinsics = false;
     } else if (flag == "--no-k3") {

@@ -113,7 +113,10 @@ CalibrationResult RigCalibrator::solve() const {
   for (const auto& [id, calibrator] : cameras_) {
     ids.push_back(id);
     try {
-      intrinsics.push_back(calibrator.calibrate());
+      const auto known = options_.known_intrinsics.find(id);
+      intrinsics.push_back(known != options_.known_intrinsics.end()
+                               ? calibrator.with_known(known->second)
+                               : calibrator.calibrate());
     } catch (const Error& e) {
       failures += std::string(failures.empty() ? "" : "; ") + e.what();
       intrinsics.emplace_back();
@@ -245,7 +248,7 @@ CalibrationResult RigCalibrator::solve() const {
     problem.observations.push_back(std::move(obs));
   }
   BundleOptions ba;
-  ba.refine_intrinsics = options_.refine_intrinsics;
+  ba.refine_intrinsics = options_.refine_intrinsics && options_.known_intrinsics.empty();
   ba.refine_k3 = options_.intrinsics.estimate_k3;
   const BundleResult adjusted = bundle_adjust(problem, ba);
   HULLPOSE_LOG(Calibrate, Info) << "bundle adjustment: rms " << adjusted.initial_rms_px << " -> "
