@@ -89,7 +89,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return 2;
   }
   try {
-    if (!std::filesystem::exists(DatasetPaths(o.gt).ground_truth())) return run_consistency(o, out);
+    // A dataset without ground truth (a real capture): scored against its silhouettes.
+    const DatasetPaths paths(o.gt);
+    if (std::filesystem::exists(paths.meta()) && !std::filesystem::exists(paths.ground_truth()))
+      return run_consistency(o, out);
     const EvalResult result = evaluate_files(o.gt, o.est);
     const ReportSource source{o.gt, o.est, read_meta(DatasetPaths(o.gt).meta()).motion};
     if (o.json)
