@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <iostream>
 #include <limits>
 
 #include "hullpose/common/check.hpp"
@@ -11,8 +12,9 @@ namespace hullpose::cli {
 double parse_double(std::string_view what, std::string_view text) {
   double v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  HULLPOSE_THROW_UNLESS(!text.empty() && ec == std::errc() && end == text.data() + text.size() && std::isfinite(v),
-                        what << ": '" << text << "' is not a number");
+  HULLPOSE_THROW_UNLESS(
+      !text.empty() && ec == std::errc() && end == text.data() + text.size() && std::isfinite(v),
+      what << ": '" << text << "' is not a number");
   return v;
 }
 
@@ -24,7 +26,8 @@ long long parse_integer(std::string_view what, std::string_view text) {
   return v;
 }
 
-CommandLine& CommandLine::add(std::string name, bool takes_value, std::function<void(const std::string&)> set) {
+CommandLine& CommandLine::add(std::string name, bool takes_value,
+                              std::function<void(const std::string&)> set) {
   specs_.push_back({std::move(name), takes_value, std::move(set)});
   return *this;
 }
@@ -44,8 +47,9 @@ CommandLine& CommandLine::option(std::string name, long long& out) {
 CommandLine& CommandLine::option(std::string name, int& out) {
   return add(name, true, [&out, name](const std::string& v) {
     const long long x = parse_integer(name, v);
-    HULLPOSE_THROW_UNLESS(x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max(),
-                          name << ": " << v << " is out of range");
+    HULLPOSE_THROW_UNLESS(
+        x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max(),
+        name << ": " << v << " is out of range");
     out = static_cast<int>(x);
   });
 }
@@ -68,10 +72,21 @@ CommandLine& CommandLine::flag(std::string name, bool& out) {
   return add(std::move(name), false, [&out](const std::string&) { out = true; });
 }
 
+CommandLine& CommandLine::flag(std::string name, std::function<void()> on) {
+  return add(std::move(name), false, [on = std::move(on)](const std::string&) { on(); });
+}
+
 bool CommandLine::parse(int argc, const char* const* argv) const {
+  return parse(argc, argv, std::cout);
+}
+
+bool CommandLine::parse(int argc, const char* const* argv, std::ostream& help_out) const {
   for (int i = 1; i < argc; ++i) {
     const std::string_view a = argv[i];
-    if (a == "-h" || a == "--help") return false;
+    if (a == "-h" || a == "--help") {
+      help_out << usage_;
+      return false;
+    }
     const Spec* spec = nullptr;
     for (const Spec& s : specs_)
       if (s.name == a) spec = &s;

@@ -3,7 +3,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <opencv2/core.hpp>
+#include <limits>
+#include <nlohmann/json.hpp>
 
 #include "hullpose/common/check.hpp"
 
@@ -123,42 +124,118 @@ fs::path DatasetPaths::background(int camera_id, int index) const {
 }
 
 void write_meta(const fs::path& path, const DatasetMeta& m) {
-  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_JSON);
-  HULLPOSE_THROW_UNLESS(fs.isOpened(), path.string() << ": cannot write");
-  fs << "format" << DatasetMeta::kFormat << "motion" << m.motion << "frames" << m.frames << "fps"
-     << m.fps << "seed" << std::to_string(m.seed) << "start_utime" << std::to_string(m.start_utime)
-     << "stature_mm" << m.stature_mm << "noise" << m.noise;
-  fs << "camera_ids" << "[";
-  for (int id : m.camera_ids) fs << id;
-  fs << "]";
+  const nlohmann::ordered_json j = {{"format", DatasetMeta::kFormat},
+                                    {"motion", m.motion},
+                                    {"frames", m.frames},
+                                    {"fps", m.fps},
+                                    {"seed", m.seed},
+                                    {"start_utime", m.start_utime},
+                                    {"stature_mm", m.stature_mm},
+                                    {"noise", m.noise},
+                                    {"camera_ids", m.camera_ids}};
+  std::ofstream out(path);
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
+  out << j.dump(2) << '\n';
+  HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
 }
+
+namespace {
+
+// meta.json's fields, each read with its type checked and named in the error.
+class MetaReader {
+ public:
+  MetaReader(const fs::path& path, const nlohmann::json& j) : file_(path.string()), j_(j) {}
+
+  const nlohmann::json& need(const char* key) const {
+    const auto it = j_.find(key);
+    HULLPOSE_THROW_UNLESS(it != j_.end() && !it->is_null(),
+                          file_ << ": missing field '" << key << "'");
+    return *it;
+  }
+  std::string text(const char* key) const {
+    const nlohmann::json& v = need(key);
+    HULLPOSE_THROW_UNLESS(v.is_string(),
+                          file_ << ": field '" << key << "' must be a string, got " << v.dump());
+    return v.get<std::string>();
+  }
+  double number(const char* key) const {
+    const nlohmann::json& v = need(key);
+    HULLPOSE_THROW_UNLESS(v.is_number() && std::isfinite(v.get<double>()),
+                          file_ << ": field '" << key << "' must be a number, got " << v.dump());
+    return v.get<double>();
+  }
+  // Integers; as a string of digits too (datasets written before meta.json had 64-bit numbers).
+  template <class T>
+  T integer(const char* key) const {
+    const nlohmann::json& v = need(key);
+    T out{};
+    bool ok = false;
+    if (v.is_number_integer()) {
+      ok = v.is_number_unsigned()
+               ? v.get<uint64_t>() <= static_cast<uint64_t>(std::numeric_limits<T>::max())
+               : v.get<int64_t>() >= static_cast<int64_t>(std::numeric_limits<T>::min()) &&
+                     v.get<int64_t>() <= static_cast<int64_t>(std::numeric_limits<T>::max());
+      if (ok) out = v.get<T>();
+    } else if (v.is_string()) {
+      const std::string& s = v.get_ref<const std::string&>();
+      const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+      ok = !s.empty() && ec == std::errc() && end == s.data() + s.size();
+    }
+    HULLPOSE_THROW_UNLESS(ok, file_ << ": field '" << key << "' must be an integer in ["
+                                    << std::numeric_limits<T>::min() << ", "
+                                    << std::numeric_limits<T>::max() << "], got " << v.dump());
+    return out;
+  }
+  std::vector<int> integers(const char* key) const {
+    const nlohmann::json& v = need(key);
+    HULLPOSE_THROW_UNLESS(v.is_array(),
+                          file_ << ": field '" << key << "' must be a list of integers");
+    std::vector<int> out;
+    for (const nlohmann::json& item : v) {
+      HULLPOSE_THROW_UNLESS(item.is_number_integer(), file_ << ": field '" << key
+                                                            << "' must hold integers, got "
+                                                            << item.dump());
+      out.push_back(item.get<int>());
+    }
+    return out;
+  }
+
+ private:
+  std::string file_;
+  const nlohmann::json& j_;
+};
+
+}  // namespace
 
 DatasetMeta read_meta(const fs::path& path) {
   HULLPOSE_THROW_UNLESS(fs::exists(path), path.string() << ": not found");
-  cv::FileStorage fs;
+  std::ifstream in(path);
+  HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+  nlohmann::json j;
   try {
-    fs.open(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  } catch (const cv::Exception& e) {
-    HULLPOSE_THROW(path.string() << ": not valid JSON: " << e.err);
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    HULLPOSE_THROW(path.string() << ": not valid JSON: " << e.what());
   }
-  HULLPOSE_THROW_UNLESS(fs.isOpened(), path.string() << ": cannot open");
-  auto need = [&](const char* key) {
-    cv::FileNode n = fs[key];
-    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(), path.string() << ": missing field '" << key << "'");
-    return n;
-  };
-  HULLPOSE_THROW_UNLESS(static_cast<int>(need("format")) == DatasetMeta::kFormat,
-                        path.string() << ": unknown dataset format");
+  HULLPOSE_THROW_UNLESS(j.is_object(), path.string() << ": must be a JSON object");
+  const MetaReader r(path, j);
+  const int format = r.integer<int>("format");
+  HULLPOSE_THROW_UNLESS(format == DatasetMeta::kFormat,
+                        path.string() << ": unknown dataset format " << format
+                                      << " (this build reads " << DatasetMeta::kFormat << ")");
   DatasetMeta m;
-  m.motion = static_cast<std::string>(need("motion"));
-  m.frames = static_cast<int>(need("frames"));
-  m.fps = static_cast<double>(need("fps"));
-  m.seed = std::stoull(static_cast<std::string>(need("seed")));
-  m.start_utime = std::stoll(static_cast<std::string>(need("start_utime")));
-  m.stature_mm = static_cast<double>(need("stature_mm"));
-  m.noise = static_cast<std::string>(need("noise"));
-  for (const auto& id : need("camera_ids")) m.camera_ids.push_back(static_cast<int>(id));
-  HULLPOSE_THROW_UNLESS(m.frames >= 0 && m.fps > 0, path.string() << ": frames/fps out of range");
+  m.motion = r.text("motion");
+  m.frames = r.integer<int>("frames");
+  m.fps = r.number("fps");
+  m.seed = r.integer<uint64_t>("seed");
+  m.start_utime = r.integer<int64_t>("start_utime");
+  m.stature_mm = r.number("stature_mm");
+  m.noise = r.text("noise");
+  m.camera_ids = r.integers("camera_ids");
+  HULLPOSE_THROW_UNLESS(m.frames >= 0,
+                        path.string() << ": field 'frames' must not be negative, got " << m.frames);
+  HULLPOSE_THROW_UNLESS(m.fps > 0, path.string()
+                                       << ": field 'fps' must be positive, got " << m.fps);
   return m;
 }
 

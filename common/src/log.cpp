@@ -41,32 +41,23 @@ Level level_for(const Registry& r, std::string_view name) {
 
 const char* level_tag(Level level) {
   switch (level) {
-    case Level::Debug: return "DEBUG";
-    case Level::Info: return "INFO";
-    case Level::Warn: return "WARN";
-    case Level::Error: return "ERROR";
-    case Level::Off: break;
+    case Level::Debug:
+      return "DEBUG";
+    case Level::Info:
+      return "INFO";
+    case Level::Warn:
+      return "WARN";
+    case Level::Error:
+      return "ERROR";
+    case Level::Off:
+      break;
   }
   return "";
-}
-
-void apply_env_once() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    if (const char* spec = std::getenv("HULLPOSE_LOG")) {
-      try {
-        set_levels(spec);
-      } catch (const Error& e) {
-        std::fprintf(stderr, "hullpose: ignoring HULLPOSE_LOG: %s\n", e.what());
-      }
-    }
-  });
 }
 
 }  // namespace
 
 Category::Category(const char* name) : name_(name), level_(static_cast<int>(Level::Info)) {
-  apply_env_once();
   Registry& r = registry();
   std::lock_guard lock(r.mutex);
   set_level(level_for(r, name_));
@@ -89,6 +80,16 @@ void set_levels(std::string_view spec) {
   std::lock_guard lock(r.mutex);
   r.rules = std::move(rules);
   for (Category* c : r.categories) c->set_level(level_for(r, c->name()));
+}
+
+void set_levels_from_env() {
+  const char* spec = std::getenv("HULLPOSE_LOG");
+  if (!spec) return;
+  try {
+    set_levels(spec);
+  } catch (const Error& e) {
+    HULLPOSE_THROW("HULLPOSE_LOG: " << e.what());
+  }
 }
 
 Message::~Message() {

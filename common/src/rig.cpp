@@ -8,6 +8,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
+#include "hullpose/common/yaml.hpp"
 
 namespace hullpose {
 
@@ -51,57 +52,7 @@ void validate_camera(const CameraModel& c) {
                                  << ", det = " << c.R.determinant() << ")");
 }
 
-// --- reading ---------------------------------------------------------------------------
-
-struct Reader {
-  std::string file;
-
-  cv::FileNode need(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
-    cv::FileNode n = parent[key];
-    HULLPOSE_THROW_UNLESS(!n.empty() && !n.isNone(), file << ": " << ctx
-                                                          << (ctx.empty() ? "" : ": ")
-                                                          << "missing field '" << key << "'");
-    return n;
-  }
-  double real(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
-    cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isReal() || n.isInt(),
-                          file << ": " << ctx << ": field '" << key << "' must be a number");
-    return static_cast<double>(n);
-  }
-  int integer(const cv::FileNode& parent, const char* key, const std::string& ctx) const {
-    cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isInt(),
-                          file << ": " << ctx << ": field '" << key << "' must be an integer");
-    return static_cast<int>(n);
-  }
-  std::vector<double> reals(const cv::FileNode& parent, const char* key, size_t count,
-                            const std::string& ctx) const {
-    cv::FileNode n = need(parent, key, ctx);
-    HULLPOSE_THROW_UNLESS(n.isSeq() && n.size() == count, file << ": " << ctx << ": field '" << key
-                                                               << "' must be a list of " << count
-                                                               << " numbers");
-    std::vector<double> out;
-    for (const auto& item : n) {
-      HULLPOSE_THROW_UNLESS(item.isReal() || item.isInt(),
-                            file << ": " << ctx << ": field '" << key << "' must hold numbers");
-      out.push_back(static_cast<double>(item));
-    }
-    return out;
-  }
-};
-
 }  // namespace
-
-double repair_rotation(Eigen::Matrix3d& R) {
-  const double deviation = orthonormality_error(R);
-  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
-      R.determinant() <= 0)
-    return 0;
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  R = svd.matrixU() * svd.matrixV().transpose();
-  return deviation;
-}
 
 const CameraModel* Rig::find(int camera_id) const {
   for (const auto& c : cameras)
@@ -123,62 +74,56 @@ void Rig::validate() const {
                         "capture_volume: max must exceed min on every axis");
 }
 
+double repair_rotation(Eigen::Matrix3d& R) {
+  const double deviation = orthonormality_error(R);
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair || R.determinant() <= 0) return 0;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  return deviation;
+}
+
 Rig load_rig(const std::filesystem::path& path) {
   const std::string file = path.string();
   HULLPOSE_THROW_UNLESS(std::filesystem::exists(path), file << ": rig file not found");
-  cv::FileStorage fs;
-  try {
-    fs.open(file, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& e) {
-    HULLPOSE_THROW(file << ": not a readable YAML rig file: " << e.err);
-  }
-  HULLPOSE_THROW_UNLESS(fs.isOpened(), file << ": cannot open rig file");
-  const Reader rd{file};
-  const cv::FileNode root = fs.root();
-
-  const int version = rd.integer(root, "version", "");
-  HULLPOSE_THROW_UNLESS(version == Rig::kFormatVersion, file << ": unknown rig file version "
-                                                             << version << " (this build reads "
-                                                             << Rig::kFormatVersion << ")");
+  const yaml::Document doc = yaml::Document::load(path);
+  const yaml::Node root = doc.root();
+  const yaml::Node version = root.need("version");
+  HULLPOSE_THROW_UNLESS(version.integer() == Rig::kFormatVersion,
+                        version.where() << ": unknown rig file version " << version.integer()
+                                        << " (this build reads " << Rig::kFormatVersion << ")");
   Rig rig;
-  const cv::FileNode id = rd.need(root, "rig_id", "");
-  HULLPOSE_THROW_UNLESS(id.isString(), file << ": field 'rig_id' must be a string");
-  rig.rig_id = static_cast<std::string>(id);
+  rig.rig_id = root.need("rig_id").string();
+  root.get("units");  // a note for readers of the file, not read
 
-  const cv::FileNode vol = rd.need(root, "capture_volume", "");
-  const auto vmin = rd.reals(vol, "min_mm", 3, "capture_volume");
-  const auto vmax = rd.reals(vol, "max_mm", 3, "capture_volume");
+  const yaml::Node vol = root.need("capture_volume");
+  const auto vmin = vol.need("min_mm").reals(3);
+  const auto vmax = vol.need("max_mm").reals(3);
   rig.volume.min_mm = Eigen::Vector3d(vmin[0], vmin[1], vmin[2]);
   rig.volume.max_mm = Eigen::Vector3d(vmax[0], vmax[1], vmax[2]);
 
-  const cv::FileNode cams = rd.need(root, "cameras", "");
-  HULLPOSE_THROW_UNLESS(cams.isSeq(), file << ": field 'cameras' must be a list");
-  int index = 0;
-  for (const auto& node : cams) {
-    const std::string ctx = "cameras[" + std::to_string(index++) + "]";
+  for (const yaml::Node& node : root.need("cameras").items()) {
     CameraModel c;
-    c.id = rd.integer(node, "id", ctx);
-    const std::string cctx = "camera " + std::to_string(c.id);
-    if (!node["name"].empty()) c.name = static_cast<std::string>(node["name"]);
-    c.width = rd.integer(node, "width", cctx);
-    c.height = rd.integer(node, "height", cctx);
-    c.fx = rd.real(node, "fx", cctx);
-    c.fy = rd.real(node, "fy", cctx);
-    c.cx = rd.real(node, "cx", cctx);
-    c.cy = rd.real(node, "cy", cctx);
-    const auto d = rd.reals(node, "dist", 5, cctx);
+    c.id = node.need("id").integer();
+    if (const auto name = node.get("name")) c.name = name->text();
+    c.width = node.need("width").integer();
+    c.height = node.need("height").integer();
+    c.fx = node.need("fx").real();
+    c.fy = node.need("fy").real();
+    c.cx = node.need("cx").real();
+    c.cy = node.need("cy").real();
+    const auto d = node.need("dist").reals(5);
     std::copy(d.begin(), d.end(), c.dist.begin());
-    const auto r = rd.reals(node, "R", 9, cctx);
+    const auto r = node.need("R").reals(9);
     c.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
     if (const double deviation = repair_rotation(c.R); deviation > 0) {
-      HULLPOSE_LOG(RigFile, Warn) << file << ": " << cctx << ": R is off orthonormal by "
-                                  << deviation
+      HULLPOSE_LOG(RigFile, Warn) << file << ": camera " << c.id << ": R is off orthonormal by " << deviation
                                   << " (max |R^T R - I|), replaced by the nearest rotation";
     }
-    const auto t = rd.reals(node, "t_mm", 3, cctx);
+    const auto t = node.need("t_mm").reals(3);
     c.t = Eigen::Vector3d(t[0], t[1], t[2]);
     rig.cameras.push_back(std::move(c));
   }
+  doc.check_all_read();
   try {
     rig.validate();
   } catch (const Error& e) {
@@ -189,6 +134,8 @@ Rig load_rig(const std::filesystem::path& path) {
 
 void save_rig(const Rig& rig, const std::filesystem::path& path) {
   rig.validate();
+  // Written with OpenCV's YAML writer: the format rig files have always had (docs/rig-file.md);
+  // load_rig reads it with yaml-cpp like any YAML.
   cv::FileStorage fs(path.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
   HULLPOSE_THROW_UNLESS(fs.isOpened(), path.string() << ": cannot write rig file");
   auto write_seq = [&fs](const char* key, const double* values, int n) {

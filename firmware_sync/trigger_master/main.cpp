@@ -1,30 +1,38 @@
 // hullpose-trigger-master: drives the rig's trigger line and announces every pulse on TRIGGER.
+#include <poll.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdio>
+#include <hullpose_msg/node_status_t.hpp>
 #include <iostream>
-#include <lcm/lcm-cpp.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 
-#include <hullpose_msg/node_status_t.hpp>
-
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/clock.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/firmware_sync/trigger_master.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
+void on_signal(int) {
+  g_stop = 1;
+}
 
 const char* kUsage =
     "usage: hullpose-trigger-master --rig-id ID [--rate HZ=30] [--pulse-us US=1000]\n"
-    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--count N] [--control-stdin]\n"
-    "         [--wait-nodes N]   (wire: start pulsing once N camera nodes are connected, at most 60 s)\n"
+    "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--count N] "
+    "[--control-stdin]\n"
+    "         [--wait-nodes N]   (wire: start pulsing once N camera nodes are connected, at most "
+    "60 s)\n"
     "  --control-stdin reads commands from stdin: 'stop', 'start', 'rate HZ', 'quit'.\n";
 
 struct Options {
@@ -37,7 +45,7 @@ struct Options {
 };
 
 // Empty when --help was asked for.
-std::optional<Options> parse(int argc, char** argv) {
+std::optional<Options> parse(int argc, const char* const* argv) {
   Options o;
   hullpose::cli::CommandLine cl(kUsage);
   cl.option("--rig-id", o.master.rig_id)
@@ -53,7 +61,8 @@ std::optional<Options> parse(int argc, char** argv) {
   return o;
 }
 
-void publish_status(lcm::LCM& bus, hullpose::sync::TriggerMaster& m, const std::string& rig_id, const std::string& line) {
+void publish_status(hullpose::bus::Bus& bus, hullpose::sync::TriggerMaster& m,
+                    const std::string& rig_id, const std::string& line) {
   hullpose_msg::node_status_t s{};
   s.utime = hullpose::realtime_utime();
   s.rig_id = rig_id;
@@ -62,86 +71,120 @@ void publish_status(lcm::LCM& bus, hullpose::sync::TriggerMaster& m, const std::
   char host[256] = {};
   gethostname(host, sizeof(host) - 1);
   s.hostname = host;
-  s.state = m.running() ? hullpose_msg::node_status_t::STATE_RUNNING : hullpose_msg::node_status_t::STATE_STOPPED;
-  s.message = "line " + line + ", period " + std::to_string(m.period_us()) + " us, epoch " + std::to_string(m.epoch());
+  s.state = m.running() ? hullpose_msg::node_status_t::STATE_RUNNING
+                        : hullpose_msg::node_status_t::STATE_STOPPED;
+  s.message = "line " + line + ", period " + std::to_string(m.period_us()) + " us, epoch " +
+              std::to_string(m.epoch());
   s.fps = static_cast<float>(1e6 / static_cast<double>(m.period_us()));
   s.frames_total = m.next_seq();
   s.last_trigger_seq = m.next_seq() - 1;
   s.stage_name = {"jitter_mean", "jitter_p99", "jitter_max"};
-  s.stage_ms = {static_cast<float>(m.jitter().mean_us() / 1000.0), static_cast<float>(m.jitter().p99_us()) / 1000.f,
+  s.stage_ms = {static_cast<float>(m.jitter().mean_us() / 1000.0),
+                static_cast<float>(m.jitter().p99_us()) / 1000.f,
                 static_cast<float>(m.jitter().max_us()) / 1000.f};
   s.num_stages = 3;
   s.counter_name = {"missed_slots"};
   s.counter_value = {m.missed_slots()};
   s.num_counters = 1;
-  bus.publish("STATUS", &s);
+  hullpose::wire::publish(bus, "STATUS", s);
 }
-}  // namespace
 
 HULLPOSE_LOG_CATEGORY(Main, "trigger_master")
 
-int main(int argc, char** argv) {
-  try {
-    if (const char* spec = std::getenv("HULLPOSE_LOG")) hullpose::log::set_levels(spec);
-    const std::optional<Options> parsed = parse(argc, argv);
-    if (!parsed) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    const Options& o = *parsed;
-    lcm::LCM bus(o.lcm_url);
-    HULLPOSE_THROW_UNLESS(bus.good(), "LCM '" << (o.lcm_url.empty() ? "default" : o.lcm_url) << "' cannot be opened");
-    auto line = hullpose::sync::open_trigger_line(o.line);
-    if (o.wait_nodes > 0) {
-      const size_t got = line->wait_for_nodes(static_cast<size_t>(o.wait_nodes), 60'000);
-      HULLPOSE_THROW_UNLESS(got >= static_cast<size_t>(o.wait_nodes),
-                            "only " << got << " of " << o.wait_nodes << " camera nodes connected to " << line->describe() << " within 60 s");
-    }
-    hullpose::sync::SystemClock clock;
-    std::vector<uint8_t> buf(4096);
-    hullpose::sync::TriggerMaster master(
-        o.master, *line, clock,
-        [&](const hullpose_msg::trigger_t& t) {
-          const int n = t.encode(buf.data(), 0, static_cast<int>(buf.size()));
-          if (n > 0) bus.publish("TRIGGER", buf.data(), static_cast<unsigned>(n));
-        },
-        hullpose::sync::new_epoch());
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
-    if (o.control_stdin) {
-      std::thread([&] {
-        std::string cmd;
-        while (std::cin >> cmd) {
-          try {
-            if (cmd == "stop") master.stop();
-            else if (cmd == "start") master.start();
-            else if (cmd == "rate") { double hz = 0; std::cin >> hz; master.set_rate(hz); }
-            else if (cmd == "quit") { g_stop = 1; master.start(); }
-            else std::cerr << "hullpose-trigger-master: unknown command '" << cmd << "'\n";
-          } catch (const hullpose::Error& e) {
-            std::cerr << "hullpose-trigger-master: " << e.what() << "\n";
-          }
-        }
-      }).detach();
-    }
-    HULLPOSE_LOG(Main, Info) << "rig " << o.master.rig_id << ": " << o.master.rate_hz << " Hz on " << line->describe()
-                             << ", epoch " << master.epoch();
-    int64_t next_status = clock.monotonic_us();
-    master.run([&] {
-      if (clock.monotonic_us() >= next_status) {
-        publish_status(bus, master, o.master.rig_id, line->describe());
-        next_status += 1'000'000;
+// --control-stdin: commands on stdin, read by a thread that run() joins before the master it
+// drives goes out of scope (it polls stdin and stops when asked, instead of blocking in a read
+// that would outlive the master).
+class StdinControl {
+ public:
+  explicit StdinControl(hullpose::sync::TriggerMaster& master)
+      : thread_([this, &master](std::stop_token stop) { loop(stop, master); }) {}
+
+ private:
+  static void handle(const std::string& line, hullpose::sync::TriggerMaster& master) {
+    std::istringstream in(line);
+    std::string cmd;
+    if (!(in >> cmd)) return;
+    try {
+      if (cmd == "stop") {
+        master.stop();
+      } else if (cmd == "start") {
+        master.start();
+      } else if (cmd == "rate") {
+        double hz = 0;
+        in >> hz;
+        master.set_rate(hz);
+      } else if (cmd == "quit") {
+        g_stop = 1;
+        master.start();  // wakes a stopped master so that run() sees g_stop
+      } else {
+        std::cerr << "hullpose-trigger-master: unknown command '" << cmd << "'\n";
       }
-      return !g_stop && (o.count == 0 || master.next_seq() < o.count);
-    });
-    publish_status(bus, master, o.master.rig_id, line->describe());
-    std::fprintf(stderr, "hullpose-trigger-master: %lld pulses, jitter mean %.1f us p99 %lld us max %lld us, %lld missed slots\n",
-                 static_cast<long long>(master.next_seq()), master.jitter().mean_us(),
-                 static_cast<long long>(master.jitter().p99_us()), static_cast<long long>(master.jitter().max_us()),
-                 static_cast<long long>(master.missed_slots()));
-    return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "hullpose-trigger-master: error: %s\n", e.what());
-    return 2;
+    } catch (const hullpose::Error& e) {
+      std::cerr << "hullpose-trigger-master: " << e.what() << "\n";
+    }
   }
+
+  static void loop(const std::stop_token& stop, hullpose::sync::TriggerMaster& master) {
+    std::string pending;
+    char buf[256];
+    while (!stop.stop_requested()) {
+      pollfd p{STDIN_FILENO, POLLIN, 0};
+      if (::poll(&p, 1, 50) <= 0) continue;
+      const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
+      if (n <= 0) return;  // end of input: no more commands
+      pending.append(buf, static_cast<size_t>(n));
+      for (size_t eol; (eol = pending.find('\n')) != std::string::npos; pending.erase(0, eol + 1))
+        handle(pending.substr(0, eol), master);
+    }
+  }
+
+  std::jthread thread_;  // joined (stop requested first) when the StdinControl goes
+};
+
+int run(int argc, const char* const* argv) {
+  const std::optional<Options> parsed = parse(argc, argv);
+  if (!parsed) return 0;
+  const Options& o = *parsed;
+  const std::unique_ptr<hullpose::bus::Bus> bus = hullpose::bus::open_bus(o.lcm_url);
+  auto line = hullpose::sync::open_trigger_line(o.line);
+  if (o.wait_nodes > 0) {
+    const size_t got = line->wait_for_nodes(static_cast<size_t>(o.wait_nodes), 60'000);
+    HULLPOSE_THROW_UNLESS(got >= static_cast<size_t>(o.wait_nodes),
+                          "only " << got << " of " << o.wait_nodes << " camera nodes connected to "
+                                  << line->describe() << " within 60 s");
+  }
+  hullpose::Clock& clock = hullpose::system_clock();
+  std::vector<uint8_t> buf(4096);
+  hullpose::sync::TriggerMaster master(
+      o.master, *line, clock,
+      [&](const hullpose_msg::trigger_t& t) { hullpose::wire::publish(*bus, "TRIGGER", t, buf); },
+      hullpose::sync::new_epoch());
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::optional<StdinControl> control;
+  if (o.control_stdin) control.emplace(master);
+  HULLPOSE_LOG(Main, Info) << "rig " << o.master.rig_id << ": " << o.master.rate_hz << " Hz on "
+                           << line->describe() << ", epoch " << master.epoch();
+  int64_t next_status = clock.monotonic_us();
+  master.run([&] {
+    if (clock.monotonic_us() >= next_status) {
+      publish_status(*bus, master, o.master.rig_id, line->describe());
+      next_status += 1'000'000;
+    }
+    return !g_stop && (o.count == 0 || master.next_seq() < o.count);
+  });
+  publish_status(*bus, master, o.master.rig_id, line->describe());
+  std::fprintf(stderr,
+               "hullpose-trigger-master: %lld pulses, jitter mean %.1f us p99 %lld us max %lld us, "
+               "%lld missed slots\n",
+               static_cast<long long>(master.next_seq()), master.jitter().mean_us(),
+               static_cast<long long>(master.jitter().p99_us()),
+               static_cast<long long>(master.jitter().max_us()),
+               static_cast<long long>(master.missed_slots()));
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return hullpose::run_tool("hullpose-trigger-master", argc, argv, run);
 }

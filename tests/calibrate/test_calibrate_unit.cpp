@@ -98,7 +98,7 @@ TEST_CASE("command line errors name the argument") {
   auto parse = [](std::initializer_list<const char*> args) {
     std::array<const char*, 32> argv{"hullpose-calibrate"};
     std::copy(args.begin(), args.end(), argv.begin() + 1);
-    return parse_command_line(static_cast<int>(args.size() + 1), argv.data());
+    return parse_command_line(static_cast<int>(args.size() + 1), argv.data()).value();
   };
   CHECK_THROWS_WITH(
       parse({"--images", "d", "--out", "r.yaml", "--board", "9by6", "--square-mm", "100"}),
@@ -108,7 +108,7 @@ TEST_CASE("command line errors name the argument") {
       Contains("--square-mm: 'ten' is not a number"));
   CHECK_THROWS_WITH(parse({"--images", "d", "--board", "9x6", "--square-mm", "100"}),
                     Contains("--out"));
-  CHECK_THROWS_WITH(parse({"--frobnicate"}), Contains("unknown argument '--frobnicate'"));
+  CHECK_THROWS_WITH(parse({"--frobnicate"}), Contains("unknown option '--frobnicate'"));
   const CommandLine ok = parse({"--images", "d", "--out", "r.yaml", "--board", "9x6", "--square-mm",
                                 "120", "--floor-view", "ground", "--no-k3"});
   CHECK(ok.options.board.square_mm == 120);

@@ -1,6 +1,6 @@
 // Background subtraction: accuracy and speed per method, on one core.
 //
-// bgs/<method>/synthetic/<W>x<H>: a camera of the synthetic rig (tools/synth: textured room,
+// bgs/<method>/synthetic/<W>x<H>: a camera of the synthetic rig (synth/: textured room,
 // walking avatar, soft shadows from two lamps, illumination drift, sensor noise; 30 empty-room
 // frames to learn from, 30 frames scored against the exact masks). Counters: precision, recall,
 // f1 of the published mask (after the node's clean-up) over every test frame, raw_f1 before the

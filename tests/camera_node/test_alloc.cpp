@@ -8,7 +8,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-
 #include <opencv2/imgproc.hpp>
 
 #include "hullpose/camera_node/background_subtractor.hpp"
@@ -84,24 +83,27 @@ TEST_CASE("our subtraction methods allocate nothing per frame") {
     s->end_learning();
     s->apply(seq.frames[0], mask);  // first frame may size scratch buffers
     long n = 0;
-    for (size_t f = 1; f < seq.frames.size(); ++f) n += allocations_in([&] { s->apply(seq.frames[f], mask); });
+    for (size_t f = 1; f < seq.frames.size(); ++f)
+      n += allocations_in([&] { s->apply(seq.frames[f], mask); });
     INFO(method);
     CHECK(n == 0);
   }
 }
 
 TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates nothing") {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "hullpose_test_camera_alloc";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "hullpose_test_camera_alloc";
   constexpr int kFrames = 8;
   test::write_dataset(dir, test::small_synth({160, 120}, kFrames, 10, 1), 0);
   NodeConfig config = load_node_config(test::write_node_config(dir, 0, "sobs", "memq://"));
   config.lcm.status_period_ms = 600000;  // no STATUS (built once a period) inside the measurement
-  config.lcm.queue_depth = 32;  // no drops: every frame of both passes fits
+  config.lcm.queue_depth = 32;           // no drops: every frame of both passes fits
   config.post.open_radius = config.post.close_radius = 0;
   config.post.min_blob_area = config.post.max_hole_area = 0;
   config.source.params.set("preload", "true");
   config.source.params.set("loop", "true");
-  CameraNode node(config);
+  const auto bus = open_node_bus(config);
+  CameraNode node(config, *bus);
   node.start();
   Frame frame;
   // Warm-up: one pass over the sequence sizes every buffer (ring slots, the encoder's run list)
@@ -120,7 +122,8 @@ TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates not
   CHECK(n == 0);
 }
 
-TEST_CASE("the clean-up's allocations are OpenCV's, a fixed few per frame whatever the image size") {
+TEST_CASE(
+    "the clean-up's allocations are OpenCV's, a fixed few per frame whatever the image size") {
   // OpenCV's erode/dilate and connectedComponentsWithStats allocate their working buffers on each
   // call (the issue asks for OpenCV here). The count must not grow with the image or the blobs.
   // With OpenCV's thread pool the count depends on how the work was split (it varied with the
@@ -131,15 +134,17 @@ TEST_CASE("the clean-up's allocations are OpenCV's, a fixed few per frame whatev
   for (const cv::Size size : {cv::Size(160, 120), cv::Size(640, 480)}) {
     MaskCleanup cleanup({1, 2, 64});
     cv::Mat mask(size, CV_8UC1, cv::Scalar(0));
-    cv::rectangle(mask, cv::Rect(size.width / 4, size.height / 6, size.width / 5, size.height / 2), cv::Scalar(255), -1);
+    cv::rectangle(mask, cv::Rect(size.width / 4, size.height / 6, size.width / 5, size.height / 2),
+                  cv::Scalar(255), -1);
     for (int i = 0; i < 20; ++i) mask.at<uint8_t>(i * 5 % size.height, i * 7) = 255;  // specks
     cv::Mat original = mask.clone();
     cleanup.apply(mask);
     original.copyTo(mask);
     counts.push_back(allocations_in([&] { cleanup.apply(mask); }));
   }
-  WARN("MaskCleanup::apply: " << counts[0] << " heap allocations per frame inside OpenCV at 160x120, " << counts[1]
-                              << " at 640x480");
+  WARN("MaskCleanup::apply: " << counts[0]
+                              << " heap allocations per frame inside OpenCV at 160x120, "
+                              << counts[1] << " at 640x480");
   CHECK(counts[1] <= counts[0] + 4);
   CHECK(counts[1] < 100);
   cv::setNumThreads(opencv_threads);

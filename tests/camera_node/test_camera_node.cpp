@@ -15,6 +15,11 @@ using namespace hullpose::camera_node;
 namespace fs = std::filesystem;
 
 namespace {
+// The bus of this test process (memq://: nobody listens, nothing leaves the process).
+bus::Bus& memq() {
+  static const std::unique_ptr<bus::Bus> bus = bus::open_bus("memq://");
+  return *bus;
+}
 
 const fs::path& dataset() {
   static const fs::path dir = [] {
@@ -28,7 +33,9 @@ const fs::path& dataset() {
 std::string error_of(const std::string& extra_or_method, bool is_method = false) {
   try {
     CameraNode node(load_node_config(test::write_node_config(
-        dataset(), 1, is_method ? extra_or_method : "horprasert", "memq://", is_method ? "" : extra_or_method)));
+                        dataset(), 1, is_method ? extra_or_method : "horprasert", "memq://",
+                        is_method ? "" : extra_or_method)),
+                    memq());
   } catch (const Error& e) {
     return e.what();
   }
@@ -38,7 +45,8 @@ std::string error_of(const std::string& extra_or_method, bool is_method = false)
 }  // namespace
 
 TEST_CASE("the node turns replayed frames into silhouettes close to the ground truth") {
-  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "codebook", "memq://")));
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "codebook", "memq://")),
+                  memq());
   node.start();
   Frame frame;
   test::Score score;
@@ -58,18 +66,22 @@ TEST_CASE("the node turns replayed frames into silhouettes close to the ground t
 
 TEST_CASE("pixels outside the ROI are background") {
   // An ROI that cuts the person of frame 1 in half.
-  const cv::Mat truth = cv::imread(test::indexed(dataset() / "cam1", "mask", 1), cv::IMREAD_GRAYSCALE);
+  const cv::Mat truth =
+      cv::imread(test::indexed(dataset() / "cam1", "mask", 1), cv::IMREAD_GRAYSCALE);
   const cv::Rect person = cv::boundingRect(truth);
   REQUIRE(person.area() > 100);
   const int cut = person.x + person.width / 2;
-  CameraNode node(load_node_config(test::write_node_config(
-      dataset(), 1, "horprasert", "memq://", "  roi: [0, 0, " + std::to_string(cut) + ", 240]\n")));
+  CameraNode node(load_node_config(
+                      test::write_node_config(dataset(), 1, "horprasert", "memq://",
+                                              "  roi: [0, 0, " + std::to_string(cut) + ", 240]\n")),
+                  memq());
   node.start();
   Frame frame;
   REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
   REQUIRE(node.capture(frame, 100) == GrabStatus::kFrame);
   const cv::Mat& mask = node.process(frame, {});
-  CHECK(cv::countNonZero(mask(cv::Rect(0, 0, cut, 240))) > cv::countNonZero(truth(cv::Rect(0, 0, cut, 240))) / 2);
+  CHECK(cv::countNonZero(mask(cv::Rect(0, 0, cut, 240))) >
+        cv::countNonZero(truth(cv::Rect(0, 0, cut, 240))) / 2);
   CHECK(cv::countNonZero(mask(cv::Rect(cut, 0, 320 - cut, 240))) == 0);
 }
 
@@ -96,7 +108,8 @@ struct ScriptedTrigger final : FrameTrigger {
   void offer(const Frame& f, std::vector<std::pair<int64_t, TriggerStamp>>& decided) override {
     seen->push_back(f.sequence);
     decided.clear();
-    if (f.sequence % 2 == 1) decided.emplace_back(f.sequence - 1, TriggerStamp{2000 + f.sequence - 1, f.capture_utime});
+    if (f.sequence % 2 == 1)
+      decided.emplace_back(f.sequence - 1, TriggerStamp{2000 + f.sequence - 1, f.capture_utime});
     if (f.sequence == 5) decided.emplace_back(-7, TriggerStamp{2007, f.capture_utime});
   }
   void report(std::vector<std::pair<std::string, int64_t>>&) const override {}
@@ -122,11 +135,13 @@ SourceRegistry self_exposing_sources() {
 }
 }  // namespace
 
-TEST_CASE("run() stamps a self-exposing camera's frames through the trigger and counts frames without one") {
+TEST_CASE(
+    "run() stamps a self-exposing camera's frames through the trigger and counts frames without "
+    "one") {
   const SourceRegistry sources = self_exposing_sources();
   std::vector<int64_t> seen;
-  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")), sources,
-                  std::make_unique<ScriptedTrigger>(&seen));
+  CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")),
+                  memq(), sources, std::make_unique<ScriptedTrigger>(&seen));
   node.start();
   const std::atomic<bool> stop{false};
   node.run(stop);
@@ -138,32 +153,39 @@ TEST_CASE("run() stamps a self-exposing camera's frames through the trigger and 
 TEST_CASE("run() has a simulated sensor expose the frame of each trigger instant") {
   std::vector<int64_t> seen;
   CameraNode node(load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://")),
-                  SourceRegistry::builtin(), std::make_unique<ScriptedTrigger>(&seen));
+                  memq(), SourceRegistry::builtin(), std::make_unique<ScriptedTrigger>(&seen));
   node.start();
   const std::atomic<bool> stop{false};
-  node.run(stop);  // trigger instants 0, 2, 4 show recorded frames 0, 2, 4; instant 6 is past the end
+  node.run(
+      stop);  // trigger instants 0, 2, 4 show recorded frames 0, 2, 4; instant 6 is past the end
   CHECK(seen == std::vector<int64_t>{0, 1, 2, 3});
   CHECK(node.frames_processed() == 3);
   CHECK(node.counters().get("no_trigger") == 0);
 }
 
 TEST_CASE("node configuration errors name the file and the field") {
-  CHECK_THAT(error_of("vibe", true), Catch::Contains("camera.yaml: bgs.method: unknown method 'vibe'"));
-  CHECK_THAT(error_of("  roi: [300, 0, 100, 100]\n"), Catch::Contains("camera.yaml: post.roi") &&
-                                                        Catch::Contains("outside the 320x240 image of camera 1"));
+  CHECK_THAT(error_of("vibe", true),
+             Catch::Contains("camera.yaml: bgs.method: unknown method 'vibe'"));
+  CHECK_THAT(error_of("  roi: [300, 0, 100, 100]\n"),
+             Catch::Contains("camera.yaml: post.roi") &&
+                 Catch::Contains("outside the 320x240 image of camera 1"));
   // camera 5 is not in the rig
   const fs::path cfg = test::write_node_config(dataset(), 5, "sobs", "memq://");
-  CHECK_THROWS_WITH(CameraNode(load_node_config(cfg)), Catch::Contains("camera_id: camera 5 is not in the rig file"));
+  CHECK_THROWS_WITH(CameraNode(load_node_config(cfg), memq()),
+                    Catch::Contains("camera_id: camera 5 is not in the rig file"));
   const fs::path bad_url = test::write_node_config(dataset(), 1, "sobs", "nosuch://x");
-  CHECK_THROWS_WITH(CameraNode(load_node_config(bad_url)), Catch::Contains("lcm.url: cannot open LCM at 'nosuch://x'"));
+  CHECK_THROWS_WITH(open_node_bus(load_node_config(bad_url)),
+                    Catch::Contains("lcm.url: LCM 'nosuch://x' cannot be opened"));
 }
 
-TEST_CASE("run() publishes a free-running camera's frames that the trigger layer chose, from the kept copies") {
+TEST_CASE(
+    "run() publishes a free-running camera's frames that the trigger layer chose, from the kept "
+    "copies") {
   const SourceRegistry sources = self_exposing_sources();
   NodeConfig config = load_node_config(test::write_node_config(dataset(), 1, "sobs", "memq://"));
   config.trigger.free_running = true;
   std::vector<int64_t> seen;
-  CameraNode node(std::move(config), sources, std::make_unique<ScriptedTrigger>(&seen));
+  CameraNode node(std::move(config), memq(), sources, std::make_unique<ScriptedTrigger>(&seen));
   node.start();
   const std::atomic<bool> stop{false};
   node.run(stop);

@@ -15,11 +15,11 @@
 #include <sstream>
 
 #include "hullpose/camera_node/camera_node.hpp"
+#include "hullpose/camera_node/synthetic_source.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
+#include "hullpose/synth/rig_gen.hpp"
 #include "hullpose_msg/node_status_t.hpp"
 #include "hullpose_msg/silhouette_t.hpp"
-#include "hullpose/camera_node/synthetic_source.hpp"
-#include "hullpose/synth/rig_gen.hpp"
 #include "mask_score.hpp"
 #include "test_dataset.hpp"
 
@@ -41,7 +41,8 @@ struct Child {
 Child spawn_node(const fs::path& config, const fs::path& stderr_file) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 2, stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0644);
   std::string bin = HULLPOSE_CAMERA_NODE_BIN, flag = "--config", cfg = config.string();
   char* argv[] = {bin.data(), flag.data(), cfg.data(), nullptr};
   Child c;
@@ -70,10 +71,12 @@ int run_to_exit(const fs::path& config, std::string& err) {
 struct Received {
   std::map<int64_t, hullpose_msg::silhouette_t> silhouettes;  // by trigger_seq
   std::vector<hullpose_msg::node_status_t> statuses;
-  void on_silhouette(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::silhouette_t* m) {
+  void on_silhouette(const lcm::ReceiveBuffer*, const std::string&,
+                     const hullpose_msg::silhouette_t* m) {
     silhouettes[m->trigger_seq] = *m;
   }
-  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::node_status_t* m) {
+  void on_status(const lcm::ReceiveBuffer*, const std::string&,
+                 const hullpose_msg::node_status_t* m) {
     if (m->role == "camera_node") statuses.push_back(*m);
   }
 };
@@ -91,9 +94,11 @@ TEST_CASE("a synthetic-source camera node process publishes its silhouettes over
   save_rig(synth::make_ring_rig(spec), dir / "rig.yaml");
   const fs::path config = dir / "camera.yaml";
   std::ofstream(config) << "%YAML:1.0\ncamera_id: 4\nrig_file: rig.yaml\n"
-                        << "lcm:\n  url: \"" << kUrl << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
-                        << "source:\n  type: synthetic\n  motion: walk\n  seed: 2\n  empty_frames: " << kEmpty
-                        << "\n  frames: " << kFrames << "\n  start_utime: \"1700000000000000\"\n"
+                        << "lcm:\n  url: \"" << kUrl
+                        << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
+                        << "source:\n  type: synthetic\n  motion: walk\n  seed: 2\n  empty_frames: "
+                        << kEmpty << "\n  frames: " << kFrames
+                        << "\n  start_utime: \"1700000000000000\"\n"
                         << "bgs:\n  method: sobs\n  learn_frames: " << kEmpty << "\n";
 
   lcm::LCM sub(kUrl);
@@ -127,7 +132,8 @@ TEST_CASE("a synthetic-source camera node process publishes its silhouettes over
     truth_source = s.get();
     return s;
   });
-  CameraNode node(local, sources);
+  const auto bus = open_node_bus(local);
+  CameraNode node(local, *bus, sources);
   node.start();
   Frame frame;
   REQUIRE(got.silhouettes.size() == kFrames);
@@ -165,7 +171,9 @@ TEST_CASE("a synthetic-source camera node process publishes its silhouettes over
   CHECK(last.last_trigger_seq == kEmpty + kFrames - 1);
   CHECK(last.num_stages == 4);
   std::map<std::string, int64_t> counters;
-  for (int i = 0; i < last.num_counters; ++i) counters[last.counter_name[static_cast<size_t>(i)]] = last.counter_value[static_cast<size_t>(i)];
+  for (int i = 0; i < last.num_counters; ++i)
+    counters[last.counter_name[static_cast<size_t>(i)]] =
+        last.counter_value[static_cast<size_t>(i)];
   CHECK(counters["messages_sent"] == kFrames);
   CHECK(counters["bytes_sent"] > 0);
   CHECK(counters.at("queue_full") == 0);
@@ -177,9 +185,11 @@ TEST_CASE("the camera node process fails cleanly on a malformed config or an abs
   test::write_dataset(dir, test::small_synth({64, 48}, 1, 1, 1), 0);
   std::string err;
 
-  std::ofstream(dir / "malformed.yaml") << "%YAML:1.0\ncamera_id: 0\nrig_file: rig.yaml\nsource: {type: file}\nbgs: {learn_frames: 3}\n";
+  std::ofstream(dir / "malformed.yaml") << "%YAML:1.0\ncamera_id: 0\nrig_file: rig.yaml\nsource: "
+                                           "{type: file}\nbgs: {learn_frames: 3}\n";
   CHECK(run_to_exit(dir / "malformed.yaml", err) == 2);
-  CHECK_THAT(err, Catch::Contains("hullpose-camera-node: error:") && Catch::Contains("malformed.yaml: bgs.method: missing"));
+  CHECK_THAT(err, Catch::Contains("hullpose-camera-node: error:") &&
+                      Catch::Contains("malformed.yaml:5: bgs.method: missing"));
 
   std::ofstream(dir / "garbage.yaml") << "camera_id: [1, 2\n\t: : :\n";
   CHECK(run_to_exit(dir / "garbage.yaml", err) == 2);
@@ -191,20 +201,27 @@ TEST_CASE("the camera node process fails cleanly on a malformed config or an abs
     std::string t = text;
     const size_t a = t.find("source:"), b = t.find("bgs:");
     t.replace(a, b - a, source);
-    t.replace(t.find("  background:"), t.find('\n', t.find("  background:")) - t.find("  background:") + 1, "");
+    t.replace(t.find("  background:"),
+              t.find('\n', t.find("  background:")) - t.find("  background:") + 1, "");
     return t;
   };
-  std::ofstream(dir / "v4l2.yaml") << replace_source("source:\n  type: v4l2\n  device: /dev/video-hullpose-absent\n");
+  std::ofstream(dir / "v4l2.yaml")
+      << replace_source("source:\n  type: v4l2\n  device: /dev/video-hullpose-absent\n");
   CHECK(run_to_exit(dir / "v4l2.yaml", err) == 2);
   CHECK_THAT(err, Catch::Contains("v4l2 device /dev/video-hullpose-absent: cannot open"));
 
-  std::ofstream(dir / "libcamera.yaml") << replace_source("source:\n  type: libcamera\n  camera: imx296-absent\n");
+  std::ofstream(dir / "libcamera.yaml")
+      << replace_source("source:\n  type: libcamera\n  camera: imx296-absent\n");
   CHECK(run_to_exit(dir / "libcamera.yaml", err) == 2);
   CHECK_THAT(err, Catch::Contains("libcamera: camera 'imx296-absent' not found"));
 
   // The trigger input is opened at start: a board without the GPIO chip says which chip and line.
-  std::ofstream(dir / "gpiod.yaml") << text << "trigger:\n  edges: gpiod\n  chip: gpiochip-hullpose-absent\n  line: 17\n";
+  std::ofstream(dir / "gpiod.yaml")
+      << text << "trigger:\n  edges: gpiod\n  chip: gpiochip-hullpose-absent\n  line: 17\n";
   CHECK(run_to_exit(dir / "gpiod.yaml", err) == 2);
-  CHECK_THAT(err, Catch::Contains("hullpose-camera-node: error: camera 0: trigger input gpiod:gpiochip-hullpose-absent:17: "
-                                  "cannot open GPIO chip 'gpiochip-hullpose-absent' line 17"));
+  CHECK_THAT(
+      err,
+      Catch::Contains(
+          "hullpose-camera-node: error: camera 0: trigger input gpiod:gpiochip-hullpose-absent:17: "
+          "cannot open GPIO chip 'gpiochip-hullpose-absent' line 17"));
 }

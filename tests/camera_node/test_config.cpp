@@ -81,13 +81,16 @@ TEST_CASE("a complete node config is read with every field") {
 
 TEST_CASE("config errors name the file and the field") {
   CHECK_THAT(error_of(replace(kGood, "camera_id: 3", "camera_id: 99")),
-             Catch::Contains("bad.yaml: camera_id: must be in [0, 63], got 99"));
+             Catch::Matches(".*bad.yaml:[0-9]+: camera_id: must be in \\[0, 63\\], got 99.*"));
   CHECK_THAT(error_of(replace(kGood, "camera_id: 3\n", "")), Catch::Contains("camera_id: missing"));
-  CHECK_THAT(error_of(replace(kGood, "  method: sobs\n", "")), Catch::Contains("bgs.method: missing"));
+  CHECK_THAT(error_of(replace(kGood, "  method: sobs\n", "")),
+             Catch::Contains("bgs.method: missing"));
   CHECK_THAT(error_of(replace(kGood, "learn_frames: 12", "learn_frames: many")),
              Catch::Contains("bgs.learn_frames: must be an integer"));
-  CHECK_THAT(error_of(replace(kGood, "roi: [10, 20, 300, 200]", "roi: [10, 20]")), Catch::Contains("post.roi"));
-  CHECK_THAT(error_of(replace(kGood, "queue_depth: 2", "queue_dept: 2")), Catch::Contains("lcm.queue_dept: unknown field"));
+  CHECK_THAT(error_of(replace(kGood, "roi: [10, 20, 300, 200]", "roi: [10, 20]")),
+             Catch::Contains("post.roi"));
+  CHECK_THAT(error_of(replace(kGood, "queue_depth: 2", "queue_dept: 2")),
+             Catch::Contains("lcm.queue_dept: unknown field"));
   CHECK_THAT(error_of(replace(kGood, "post:", "postt:")), Catch::Contains("postt: unknown field"));
   CHECK_THAT(error_of("%YAML:1.0\ncamera_id: [unclosed\n"), Catch::Contains("bad.yaml"));
   CHECK_THAT(error_of(""), Catch::Contains("bad.yaml"));
@@ -109,21 +112,28 @@ TEST_CASE("stage parameters are typed, ranged and must all be known") {
   CHECK(p.get_int("count", 0, 0, 10) == 7);
   CHECK(p.get_bool("flag", false));
   CHECK(p.get_int("absent", 42, 0, 100) == 42);
-  CHECK_THROWS_WITH(p.expect_all_used(), Catch::Contains("cam.yaml: bgs.params: unknown parameter(s): typo"));
-  CHECK_THROWS_WITH(p.get_int("count", 0, 0, 5), Catch::Contains("cam.yaml: bgs.params.count: must be in [0, 5], got 7"));
-  CHECK_THROWS_WITH(p.get_int("rate", 0, 0, 5), Catch::Contains("bgs.params.rate: must be an integer"));
+  CHECK_THROWS_WITH(p.expect_all_used(),
+                    Catch::Contains("cam.yaml: bgs.params: unknown parameter(s): typo"));
+  CHECK_THROWS_WITH(p.get_int("count", 0, 0, 5),
+                    Catch::Contains("cam.yaml: bgs.params.count: must be in [0, 5], got 7"));
+  CHECK_THROWS_WITH(p.get_int("rate", 0, 0, 5),
+                    Catch::Contains("bgs.params.rate: must be an integer"));
   CHECK_THROWS_WITH(p.get_bool("rate", false), Catch::Contains("must be true or false"));
   p.set("nan", "nan");
-  CHECK_THROWS_WITH(p.get_double("nan", 0, 0, 1), Catch::Contains("bgs.params.nan: must be a number"));
-  CHECK_THROWS_WITH(p.require_string("missing"), Catch::Contains("bgs.params.missing: missing (required)"));
+  CHECK_THROWS_WITH(p.get_double("nan", 0, 0, 1),
+                    Catch::Contains("bgs.params.nan: must be a number"));
+  CHECK_THROWS_WITH(p.require_string("missing"),
+                    Catch::Contains("bgs.params.missing: missing (required)"));
 }
 
 TEST_CASE("the trigger section names the input and is checked field by field") {
   const NodeConfig none = load_node_config(write("good.yaml", kGood));
   CHECK_FALSE(none.trigger.enabled);  // free-running
 
-  const fs::path gpio = write("gpio.yaml", std::string(kGood) + "trigger:\n  edges: gpiod\n  chip: gpiochip0\n  line: 17\n"
-                                                                  "  max_residual_us: 3000\n  wait_ms: 20\n");
+  const fs::path gpio =
+      write("gpio.yaml", std::string(kGood) +
+                             "trigger:\n  edges: gpiod\n  chip: gpiochip0\n  line: 17\n"
+                             "  max_residual_us: 3000\n  wait_ms: 20\n");
   const NodeConfig g = load_node_config(gpio);
   CHECK(g.trigger.enabled);
   CHECK(g.trigger.edges == "gpiod:gpiochip0:17");
@@ -133,24 +143,37 @@ TEST_CASE("the trigger section names the input and is checked field by field") {
   CHECK(g.trigger.clock_offset_ms == 0);
   CHECK_FALSE(g.trigger.free_running);
 
-  const NodeConfig w = load_node_config(write("wire.yaml", std::string(kGood) + "trigger: { edges: wire, path: run/wire.sock, "
-                                                                                "channel: TRIG2, clock_offset_ms: -2000 }\n"));
+  const NodeConfig w = load_node_config(
+      write("wire.yaml", std::string(kGood) + "trigger: { edges: wire, path: run/wire.sock, "
+                                              "channel: TRIG2, clock_offset_ms: -2000 }\n"));
   CHECK(w.trigger.edges == "wire:" + (w.base_dir / "run/wire.sock").string());
   CHECK(w.trigger.channel == "TRIG2");
   CHECK(w.trigger.clock_offset_ms == -2000);
 
-  const auto with = [](const std::string& trigger) { return error_of(std::string(kGood) + "trigger:\n" + trigger); };
-  CHECK_THAT(with("  chip: gpiochip0\n"), Catch::Contains("bad.yaml: trigger.edges: missing (required)"));
-  CHECK_THAT(with("  edges: serial\n"), Catch::Contains("trigger.edges: unknown trigger input 'serial'"));
-  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n"), Catch::Contains("trigger.line: missing (required)"));
-  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: -1\n"), Catch::Contains("trigger.line: must be in [0, 65535]"));
-  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: 1\n  path: x\n"), Catch::Contains("trigger.path: only for edges: wire"));
+  const auto with = [](const std::string& trigger) {
+    return error_of(std::string(kGood) + "trigger:\n" + trigger);
+  };
+  CHECK_THAT(with("  chip: gpiochip0\n"),
+             Catch::Matches(".*bad.yaml:[0-9]+: trigger.edges: missing \\(required\\).*"));
+  CHECK_THAT(with("  edges: serial\n"),
+             Catch::Contains("trigger.edges: unknown trigger input 'serial'"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n"),
+             Catch::Contains("trigger.line: missing (required)"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: -1\n"),
+             Catch::Contains("trigger.line: must be in [0, 65535]"));
+  CHECK_THAT(with("  edges: gpiod\n  chip: gpiochip0\n  line: 1\n  path: x\n"),
+             Catch::Contains("trigger.path: only for edges: wire"));
   CHECK_THAT(with("  edges: wire\n"), Catch::Contains("trigger.path: missing (required)"));
-  CHECK(load_node_config(write("free.yaml", std::string(kGood) + "trigger: { edges: wire, path: w, camera: free_running }\n"))
+  CHECK(load_node_config(
+            write("free.yaml",
+                  std::string(kGood) + "trigger: { edges: wire, path: w, camera: free_running }\n"))
             .trigger.free_running);
   CHECK_THAT(with("  edges: wire\n  path: w\n  camera: sometimes\n"),
              Catch::Contains("trigger.camera: 'sometimes' is not triggered or free_running"));
-  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  line: 3\n"), Catch::Contains("trigger.line: only for edges: gpiod"));
-  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  wait_ms: 99999\n"), Catch::Contains("trigger.wait_ms: must be in [0, 10000]"));
-  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  mode: nearest\n"), Catch::Contains("trigger.mode: unknown field"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  line: 3\n"),
+             Catch::Contains("trigger.line: only for edges: gpiod"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  wait_ms: 99999\n"),
+             Catch::Contains("trigger.wait_ms: must be in [0, 10000]"));
+  CHECK_THAT(with("  edges: wire\n  path: w.sock\n  mode: nearest\n"),
+             Catch::Contains("trigger.mode: unknown field"));
 }

@@ -14,7 +14,8 @@ TEST_CASE("every silhouette handed to the publisher is either sent or counted as
   Counters counters;
   constexpr int kBurst = 500;
   {
-    SilhouettePublisher publisher(config, "rig", 2, counters);
+    const auto bus = bus::open_bus(config.url);
+    SilhouettePublisher publisher(config, *bus, "rig", 2, counters);
     cv::Mat mask(120, 160, CV_8UC1, cv::Scalar(0));
     cv::circle(mask, {80, 60}, 30, cv::Scalar(255), -1);
     int accepted = 0;
@@ -32,9 +33,6 @@ TEST_CASE("every silhouette handed to the publisher is either sent or counted as
 }
 
 TEST_CASE("a bad LCM URL is an error naming it") {
-  LcmConfig config;
-  config.url = "udpm://not-an-address:x";
-  Counters counters;
-  CHECK_THROWS_WITH(SilhouettePublisher(config, "rig", 0, counters),
-                    Catch::Contains("lcm.url: cannot open LCM at 'udpm://not-an-address:x'"));
+  CHECK_THROWS_WITH(bus::open_bus("udpm://not-an-address:x"),
+                    Catch::Contains("LCM 'udpm://not-an-address:x' cannot be opened"));
 }

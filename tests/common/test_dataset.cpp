@@ -18,7 +18,8 @@ PoseRecord record(int frame, double base) {
   PoseRecord r;
   r.frame = frame;
   r.utime = 1'700'000'000'000'000 + frame * 33'333;
-  for (int j = 0; j < kNumJoints; ++j) r.joints[static_cast<size_t>(j)] = Eigen::Vector3d(base + j, -base - j, 1000.125 + j);
+  for (int j = 0; j < kNumJoints; ++j)
+    r.joints[static_cast<size_t>(j)] = Eigen::Vector3d(base + j, -base - j, 1000.125 + j);
   return r;
 }
 }  // namespace
@@ -68,6 +69,43 @@ TEST_CASE("meta, ground truth and estimates round-trip") {
   CHECK(est[0].reason == 4);
 }
 
+TEST_CASE("bad meta.json fields are errors naming the file and the field, never an abort") {
+  TempDir dir;
+  const fs::path file = dir.path / "meta.json";
+  const auto error_of = [&](const std::string& text) -> std::string {
+    std::ofstream(file) << text;
+    try {
+      read_meta(file);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string good =
+      R"({"format": 1, "motion": "walk", "frames": 3, "fps": 30, "seed": 7, "start_utime": 1700000000000000,)"
+      R"( "stature_mm": 1750, "noise": "", "camera_ids": [0, 1]})";
+  CHECK(error_of(good).empty());
+  // Datasets written before 64-bit numbers: seed and start_utime as strings of digits.
+  CHECK(
+      error_of(
+          R"({"format": 1, "motion": "walk", "frames": 3, "fps": 30, "seed": "7", "start_utime": "17",)"
+          R"( "stature_mm": 1750, "noise": "", "camera_ids": [0]})")
+          .empty());
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = good;
+    t.replace(t.find(from), from.size(), to);
+    return error_of(t);
+  };
+  CHECK_THAT(with(R"("seed": 7)", R"("seed": "abc")"),
+             Catch::Contains("meta.json") && Catch::Contains("field 'seed'"));
+  CHECK_THAT(with(R"("seed": 7)", R"("seed": -1)"), Catch::Contains("field 'seed'"));
+  CHECK_THAT(with(R"("frames": 3)", R"("frames": "x")"), Catch::Contains("field 'frames'"));
+  CHECK_THAT(with(R"("fps": 30)", R"("fps": 0)"), Catch::Contains("field 'fps' must be positive"));
+  CHECK_THAT(with(R"("motion": "walk", )", ""), Catch::Contains("missing field 'motion'"));
+  CHECK_THAT(with(R"([0, 1])", R"([0, "one"])"), Catch::Contains("field 'camera_ids'"));
+  CHECK_THAT(error_of("{not json"), Catch::Contains("meta.json: not valid JSON"));
+}
+
 TEST_CASE("bad pose files name the file, line and column") {
   TempDir dir;
   write_ground_truth(dir.path / "gt.csv", {record(0, 1), record(1, 2)});
@@ -78,7 +116,8 @@ TEST_CASE("bad pose files name the file, line and column") {
   std::getline(in, l2);
   auto expect_error = [&](const std::string& text, const std::string& needle) {
     std::ofstream(dir.path / "bad.csv") << text;
-    CHECK_THROWS_WITH(read_ground_truth(dir.path / "bad.csv"), Catch::Contains("bad.csv") && Catch::Contains(needle));
+    CHECK_THROWS_WITH(read_ground_truth(dir.path / "bad.csv"),
+                      Catch::Contains("bad.csv") && Catch::Contains(needle));
   };
   expect_error(header + "\n" + l1 + "\n" + l2.substr(0, l2.size() / 2) + "\n", ":3: expected");
   expect_error(header + "\n" + l1 + ",7\n", ":2: expected");

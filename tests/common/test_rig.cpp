@@ -31,7 +31,8 @@ Rig sample_rig() {
     c.cx = 400 + u(rng);
     c.cy = 300 + u(rng);
     c.dist = {0.1 * u(rng), 0.01 * u(rng), 1e-4 * u(rng), 1e-4 * u(rng), 1e-3 * u(rng)};
-    c.R = Eigen::AngleAxisd(2 * M_PI * i / 8 + 0.1 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    c.R = Eigen::AngleAxisd(2 * M_PI * i / 8 + 0.1 * u(rng), Eigen::Vector3d::UnitZ())
+              .toRotationMatrix();
     c.t = Eigen::Vector3d(u(rng), u(rng), 4000 + u(rng));
     rig.cameras.push_back(c);
   }
@@ -53,7 +54,9 @@ std::string read(const fs::path& p) {
   ss << in.rdbuf();
   return ss.str();
 }
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
 
 // Loads the sample rig's file with the first occurrence of `from` replaced by `to` and returns
 // the error message, or "" if it loaded; with through_bracket, everything up to
@@ -91,25 +94,32 @@ TEST_CASE("rig YAML round-trips exactly") {
 TEST_CASE("bad rig files give errors naming the camera and field") {
   TempDir dir;
   using Catch::Contains;
-  CHECK_THAT(load_error_after(dir, "fx: ", "fx: -"), Contains("camera 0") && Contains("fx must be positive"));
-  CHECK_THAT(load_error_after(dir, "fy: ", "fy: .nan #"), Contains("camera 0") && Contains("fy"));
+  CHECK_THAT(load_error_after(dir, "fx: ", "fx: -"),
+             Contains("camera 0") && Contains("fx must be positive"));
+  CHECK_THAT(load_error_after(dir, "fy: ", "fy: .nan #"),
+             Contains("bad.yaml:16: cameras[0].fy: must be a number"));
   CHECK_THAT(load_error_after(dir, "id: 3", "id: 2"), Contains("duplicate camera id 2"));
-  CHECK_THAT(load_error_after(dir, "version: 1", "version: 7"), Contains("unknown rig file version 7"));
-  CHECK_THAT(load_error_after(dir, "version: 1", "versio: 1"), Contains("missing field 'version'"));
-  CHECK_THAT(load_error_after(dir, "cx: ", "cxx: "), Contains("camera 0") && Contains("missing field 'cx'"));
-  CHECK_THAT(load_error_after(dir, "width: 800", "width: 0"), Contains("camera 0") && Contains("image size"));
-  CHECK_THAT(load_error_after(dir, "dist: [ ", "dist: [ 1., "), Contains("camera 0") && Contains("'dist'"));
+  CHECK_THAT(load_error_after(dir, "version: 1", "version: 7"),
+             Contains("unknown rig file version 7"));
+  CHECK_THAT(load_error_after(dir, "version: 1", "versio: 1"),
+             Contains("bad.yaml:3: version: missing (required)"));
+  CHECK_THAT(load_error_after(dir, "cx: ", "cxx: "), Contains("cameras[0].cx: missing (required)"));
+  CHECK_THAT(load_error_after(dir, "width: 800", "width: 0"),
+             Contains("camera 0") && Contains("image size"));
+  CHECK_THAT(load_error_after(dir, "dist: [ ", "dist: [ 1., "),
+             Contains("cameras[0].dist: must be a list of 5 numbers"));
   CHECK_THAT(load_error_after(dir, "max_mm: [ ", "max_mm: [ -5000., "), Contains("capture_volume"));
   // A scaled rotation is not a rotation.
   CHECK_THAT(load_error_after(dir, "R: [ ", "R: [ 2., 0., 0., 0., 1., 0., 0., 0., 1. ]", true),
              Contains("camera 0") && Contains("R is not a rotation"));
-  CHECK_THAT(load_error_after(dir, "t_mm: [ ", "t_mm: [ .inf, "), Contains("camera 0"));
+  CHECK_THAT(load_error_after(dir, "t_mm: [ ", "t_mm: [ .inf, "), Contains("cameras[0].t_mm"));
 }
 
 TEST_CASE("unreadable rig files are reported with their path") {
   TempDir dir;
   using Catch::Contains;
-  CHECK_THROWS_WITH(load_rig(dir.path / "nope.yaml"), Contains("nope.yaml") && Contains("not found"));
+  CHECK_THROWS_WITH(load_rig(dir.path / "nope.yaml"),
+                    Contains("nope.yaml") && Contains("not found"));
   write(dir.path / "garbage.yaml", "{{{ this is not: yaml ]]\n");
   CHECK_THROWS_WITH(load_rig(dir.path / "garbage.yaml"), Contains("garbage.yaml"));
   write(dir.path / "empty.yaml", "");

@@ -1,11 +1,13 @@
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
 #include <sstream>
 
 #include "fixtures.hpp"
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/eval/cli.hpp"
 #include "hullpose/eval/metrics.hpp"
 #include "hullpose/eval/report.hpp"
@@ -51,7 +53,9 @@ Cli run(const std::vector<std::string>& args) {
   for (const auto& a : args) argv.push_back(a.c_str());
   std::ostringstream out, err;
   Cli c;
-  c.status = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  c.status = hullpose::run_tool(
+      "hullpose-eval", static_cast<int>(argv.size()), argv.data(),
+      [&out](int argc, const char* const* v) { return run_cli(argc, v, out); }, err);
   c.out = out.str();
   c.err = err.str();
   return c;
@@ -164,13 +168,13 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
         {"--gt", (dir.path / "ds").string(), "--est", (dir.path / "est.csv").string(), "--json"});
     INFO(c.err);
     REQUIRE(c.status == 0);
-    CHECK(c.out.find("\"mpjpe_mm\":15.000,") != std::string::npos);
-    CHECK(c.out.find("\"mpjpe_std_mm\":0.000,") != std::string::npos);
-    CHECK(c.out.find("\"extremity_mpjpe_mm\":15.000,") != std::string::npos);
-    CHECK(c.out.find("\"hands_feet_mpjpe_mm\":15.000,") != std::string::npos);
-    CHECK(c.out.find("\"pck50_pct\":100.000,") != std::string::npos);
-    CHECK(c.out.find("\"axis_bias_mm\":{\"x\":12.000,\"y\":0.000,\"z\":-9.000}") !=
-          std::string::npos);
+    const auto j = nlohmann::json::parse(c.out);
+    CHECK(j["mpjpe_mm"] == 15.0);  // three decimals, as the table
+    CHECK(j["mpjpe_std_mm"] == 0.0);
+    CHECK(j["extremity_mpjpe_mm"] == 15.0);
+    CHECK(j["hands_feet_mpjpe_mm"] == 15.0);
+    CHECK(j["pck50_pct"] == 100.0);
+    CHECK(j["axis_bias_mm"] == nlohmann::json({{"x", 12.0}, {"y", 0.0}, {"z", -9.0}}));
     const EvalResult r = evaluate_files(dir.path / "ds", dir.path / "est.csv");
     CHECK(r.all_joints.mean == Approx(15).margin(1e-6));  // the CSV holds 0.001 mm
     CHECK(r.all_joints.max == Approx(15).margin(1e-6));
@@ -302,8 +306,9 @@ TEST_CASE("an estimate with no valid frame still reports, with nulls") {
   CHECK(std::isnan(r.lr_correct_pct));
   std::ostringstream json;
   write_json(json, r);
-  CHECK(json.str().find("\"mpjpe_mm\":null,") != std::string::npos);
-  CHECK(json.str().find("\"valid_pct\":0.000,") != std::string::npos);
+  const auto j = nlohmann::json::parse(json.str());
+  CHECK(j["mpjpe_mm"].is_null());
+  CHECK(j["valid_pct"] == 0.0);
   std::ostringstream table;
   write_table(table, r, {"ds", "est.csv", "walk"});
   CHECK(std::regex_search(table.str(), std::regex(R"(all joints \(MPJPE\) +- mm)")));

@@ -12,6 +12,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/dataset.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/import/cli.hpp"
 #include "hullpose/import/pattern.hpp"
 #include "hullpose/import/rig_import.hpp"
@@ -64,7 +65,9 @@ int run(const std::vector<std::string>& args, std::string& out, std::string& err
   std::vector<const char*> argv{"hullpose-import"};
   for (const auto& a : args) argv.push_back(a.c_str());
   std::ostringstream o, e;
-  const int rc = run_cli(static_cast<int>(argv.size()), argv.data(), o, e);
+  const int rc = run_tool(
+      "hullpose-import", static_cast<int>(argv.size()), argv.data(),
+      [&o](int c, const char* const* v) { return run_cli(c, v, o); }, e);
   out = o.str();
   err = e.str();
   return rc;

@@ -1,13 +1,16 @@
-// The live service over LCM's in-process provider (memq://): assembly, the pipeline seam,
-// SKELETON with its latency breakdown and reasons, STATUS with the drop counters.
+// The live service over LCM's in-process provider (memq://) and a test clock: assembly, the
+// pipeline seam, SKELETON with its latency breakdown and reasons, STATUS with the drop counters.
+// Deadlines pass because the test moves the clock, never because real time went by.
 #include <catch2/catch.hpp>
 #include <hullpose_msg/node_status_t.hpp>
-#include <lcm/lcm-cpp.hpp>
 #include <map>
 
-#include "hullpose/common/lcm_wire.hpp"
+#include "hullpose/common/bus.hpp"
+#include "hullpose/common/clock.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/fusion_host/fusion_service.hpp"
+#include "hullpose/msg/wire.hpp"
 #include "rig_fixtures.hpp"
 #include "seq_check_pipeline.hpp"
 
@@ -17,13 +20,16 @@ namespace {
 struct Sink {
   std::map<int64_t, hullpose_msg::skeleton_t> skeletons;
   std::vector<hullpose_msg::node_status_t> status;
-  void on_skeleton(const lcm::ReceiveBuffer* rb, const std::string&) {
-    REQUIRE(wire::skeleton_ok(rb->data, rb->data_size));
+  void on_skeleton(std::span<const uint8_t> bytes) {
     hullpose_msg::skeleton_t s;
-    REQUIRE(s.decode(rb->data, 0, static_cast<int>(rb->data_size)) == static_cast<int>(rb->data_size));
+    REQUIRE(wire::decode(bytes, s));
     skeletons[s.trigger_seq] = s;
   }
-  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::node_status_t* s) { status.push_back(*s); }
+  void on_status(std::span<const uint8_t> bytes) {
+    hullpose_msg::node_status_t s;
+    REQUIRE(wire::decode(bytes, s));
+    status.push_back(s);
+  }
 };
 
 hullpose_msg::silhouette_t seq_silhouette(const Rig& rig, int cam, int64_t seq, int64_t utime) {
@@ -42,20 +48,23 @@ hullpose_msg::silhouette_t seq_silhouette(const Rig& rig, int cam, int64_t seq, 
 
 TEST_CASE("fusion service: every sequence is published, fused or with its reason, with latencies") {
   const Rig rig = testing::make_rig(3, 120, 90);
-  lcm::LCM bus("memq://");
-  REQUIRE(bus.good());
+  const auto bus = bus::open_bus("memq://");
+  SimClock clock;
   testing::SeqCheckPipeline pipeline;
   fusion::ServiceConfig cfg;
   cfg.assembler.min_cameras = 2;
   cfg.assembler.deadline_us = 5'000;
   cfg.assembler.no_views_timeout_us = 5'000;
-  fusion::FusionService service(bus, rig, pipeline, cfg);
+  fusion::FusionService service(*bus, clock, rig, pipeline, cfg);
   Sink sink;
-  bus.subscribe("SKELETON", &Sink::on_skeleton, &sink);
-  bus.subscribe("STATUS", &Sink::on_status, &sink);
+  const auto skeletons = bus->subscribe(
+      "SKELETON", [&](std::span<const uint8_t> b, const std::string&) { sink.on_skeleton(b); },
+      100);
+  const auto status = bus->subscribe(
+      "STATUS", [&](std::span<const uint8_t> b, const std::string&) { sink.on_status(b); }, 100);
 
   const int64_t period = 33'333;
-  const int64_t t0 = realtime_utime() - 10 * period;
+  const int64_t t0 = clock.realtime_utime() - 10 * period;
   hullpose_msg::trigger_t trig{};
   trig.rig_id = rig.rig_id;
   trig.period_us = static_cast<int32_t>(period);
@@ -63,19 +72,25 @@ TEST_CASE("fusion service: every sequence is published, fused or with its reason
   for (int64_t seq = 0; seq < 8; ++seq) {
     trig.seq = seq;
     trig.utime = t0 + seq * period;
-    bus.publish("TRIGGER", &trig);
+    wire::publish(*bus, "TRIGGER", trig);
     const int cams = seq < 5 ? 3 : seq == 5 ? 2 : seq == 6 ? 1 : 0;  // seq 7: announced, no views
     for (int cam = 0; cam < cams; ++cam) {
       auto m = seq_silhouette(rig, cam, seq, trig.utime);
-      bus.publish("SILHOUETTE", &m);
+      wire::publish(*bus, "SILHOUETTE", m);
     }
   }
   const uint8_t garbage[] = {1, 2, 3, 4, 5, 6, 7, 8, 9};
-  bus.publish("SILHOUETTE", garbage, sizeof(garbage));
-  bus.publish("TRIGGER", garbage, sizeof(garbage));
-  for (int i = 0; i < 500 && sink.skeletons.size() < 8; ++i) service.step(10);
+  bus->publish("SILHOUETTE", garbage);
+  bus->publish("TRIGGER", garbage);
+  // Every message is handled at once (memq delivers synchronously to the queue); then the clock
+  // moves past the 5 ms deadline of every frame, 1 ms per step.
+  for (int i = 0; i < 50 && sink.skeletons.size() < 8; ++i) {
+    service.step(0);
+    clock.advance(1'000);
+  }
   service.flush();
-  for (int i = 0; i < 10; ++i) service.step(1);
+  while (bus->handle(0)) {
+  }
 
   REQUIRE(sink.skeletons.size() == 8);
   for (int64_t seq = 0; seq < 8; ++seq) {
@@ -112,12 +127,47 @@ TEST_CASE("fusion service: every sequence is published, fused or with its reason
   CHECK(st.state == hullpose_msg::node_status_t::STATE_DEGRADED);
   CHECK(st.frames_total == 8);
   std::map<std::string, int64_t> counters;
-  for (int i = 0; i < st.num_counters; ++i) counters[st.counter_name[static_cast<size_t>(i)]] = st.counter_value[static_cast<size_t>(i)];
+  for (int i = 0; i < st.num_counters; ++i)
+    counters[st.counter_name[static_cast<size_t>(i)]] = st.counter_value[static_cast<size_t>(i)];
   CHECK(counters["fused_complete"] == 5);
   CHECK(counters["fused_partial"] == 1);
   CHECK(counters["too_few_cameras"] == 1);
   CHECK(counters["no_views"] == 1);
   CHECK(counters["malformed_lcm"] == 1);
+}
+
+TEST_CASE("fusion service: a pipeline that throws fails that frame only; the service goes on") {
+  const Rig rig = testing::make_rig(2, 60, 40);
+  const auto bus = bus::open_bus("memq://");
+  SimClock clock;
+  struct Throwing final : fusion::FramePipeline {
+    void process(const fusion::AssembledFrame& f, fusion::PoseEstimate& out) override {
+      if (f.trigger_seq == 1)
+        throw std::runtime_error("CUDA backend: cudaMemcpy: an illegal memory access");
+      out.valid = true;
+    }
+  } pipeline;
+  fusion::ServiceConfig cfg;
+  cfg.assembler.min_cameras = 2;
+  fusion::FusionService service(*bus, clock, rig, pipeline, cfg);
+  Sink sink;
+  const auto skeletons = bus->subscribe(
+      "SKELETON", [&](std::span<const uint8_t> b, const std::string&) { sink.on_skeleton(b); },
+      100);
+  const int64_t t0 = clock.realtime_utime();
+  for (int64_t seq = 0; seq < 3; ++seq)
+    for (int cam = 0; cam < 2; ++cam)
+      wire::publish(*bus, "SILHOUETTE", testing::make_silhouette(rig, cam, seq, t0 + seq * 33'333));
+  for (int i = 0; i < 20; ++i) service.step(0);
+  service.flush();
+  while (bus->handle(0)) {
+  }
+  REQUIRE(sink.skeletons.size() == 3);
+  CHECK(sink.skeletons.at(0).valid);
+  CHECK_FALSE(sink.skeletons.at(1).valid);
+  CHECK(sink.skeletons.at(1).reason == hullpose_msg::skeleton_t::REASON_FIT_FAILED);
+  CHECK(sink.skeletons.at(2).valid);
+  CHECK(service.counters().get("pipeline_error") == 1);
 }
 
 TEST_CASE("views laid out by camera index for carving") {
@@ -152,11 +202,16 @@ TEST_CASE("service command line: --help exits 0 before anything opens; bad optio
     args.reserve(options.size() + 1);
     for (const char* o : options) args.push_back(o);
     bool built = false;
-    const int rc = fusion::service_main(static_cast<int>(args.size()), const_cast<char**>(args.data()), "fusion-host-test",
-                                        [&built](const Rig&, const fusion::PipelineOptions&) -> std::unique_ptr<fusion::FramePipeline> {
-                                          built = true;
-                                          return nullptr;
-                                        });
+    const int rc =
+        run_tool("fusion-host-test", static_cast<int>(args.size()), args.data(),
+                 [&built](int c, const char* const* v) {
+                   return fusion::service_main(c, v, "fusion-host-test",
+                                               [&built](const Rig&, const fusion::PipelineOptions&)
+                                                   -> std::unique_ptr<fusion::FramePipeline> {
+                                                 built = true;
+                                                 return nullptr;
+                                               });
+                 });
     CHECK_FALSE(built);
     return rc;
   };

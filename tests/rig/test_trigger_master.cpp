@@ -11,6 +11,7 @@
 #include "hullpose/firmware_sync/trigger_master.hpp"
 
 using namespace hullpose::sync;
+using hullpose::SimClock;
 
 namespace {
 struct Rig {
@@ -19,7 +20,9 @@ struct Rig {
   std::vector<hullpose_msg::trigger_t> sent;
   TriggerMaster master;
   explicit Rig(double hz = 30, int width = 1000)
-      : master({"rigA", hz, width}, line, clock, [this](const hullpose_msg::trigger_t& t) { sent.push_back(t); }, 77) {}
+      : master(
+            {"rigA", hz, width}, line, clock,
+            [this](const hullpose_msg::trigger_t& t) { sent.push_back(t); }, 77) {}
 };
 }  // namespace
 
@@ -56,8 +59,8 @@ TEST_CASE("a late wake-up is measured as jitter and does not shift later pulses"
 
 TEST_CASE("an overrun skips whole slots and keeps the phase") {
   Rig r(100);
-  r.master.pulse();                 // edge at t0
-  r.clock.advance(35'000);          // the process stalls for 3.5 periods
+  r.master.pulse();         // edge at t0
+  r.clock.advance(35'000);  // the process stalls for 3.5 periods
   r.master.pulse();
   CHECK(r.master.missed_slots() == 3);
   CHECK(r.sent[1].seq == 1);
@@ -89,12 +92,16 @@ TEST_CASE("rate change applies from the next pulse; stop and start keep seq and 
 TEST_CASE("bad configuration and absent GPIO chips fail clearly") {
   SimClock clock;
   SimTriggerLine line;
-  auto make = [&](TriggerMasterConfig c) { TriggerMaster m(c, line, clock, [](const hullpose_msg::trigger_t&) {}, 1); };
+  auto make = [&](TriggerMasterConfig c) {
+    TriggerMaster m(
+        c, line, clock, [](const hullpose_msg::trigger_t&) {}, 1);
+  };
   CHECK_THROWS_WITH(make({"", 30, 1000}), Catch::Contains("rig_id"));
   CHECK_THROWS_WITH(make({"r", -5, 1000}), Catch::Contains("rate"));
   CHECK_THROWS_WITH(make({"r", 30, 40000}), Catch::Contains("pulse width"));
-  CHECK_THROWS_WITH(open_trigger_line("gpiod:hullpose-no-such-chip:3"),
-                    Catch::Contains("hullpose-no-such-chip") && Catch::Contains("cannot open GPIO chip"));
+  CHECK_THROWS_WITH(
+      open_trigger_line("gpiod:hullpose-no-such-chip:3"),
+      Catch::Contains("hullpose-no-such-chip") && Catch::Contains("cannot open GPIO chip"));
   CHECK_THROWS_WITH(open_trigger_line("gpiod:chip:x"), Catch::Contains("not a line number"));
   CHECK_THROWS_WITH(open_trigger_line("usb"), Catch::Contains("expected"));
   CHECK_THROWS_WITH(hullpose::trigger::open_edge_source("gpiod:hullpose-no-such-chip:3", {}),

@@ -1,100 +1,99 @@
 #include "hullpose/camera_node/node_config.hpp"
 
-#include <cstdio>
-#include <opencv2/core.hpp>
+#include <optional>
 
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/yaml.hpp"
 
 namespace hullpose::camera_node {
 namespace {
 
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  std::string where(const std::string& field) const { return file_ + ": " + field; }
-
-  static bool present(const cv::FileNode& n) { return !n.empty() && !n.isNone(); }
-
-  std::string scalar_text(const cv::FileNode& n, const std::string& field) const {
-    if (n.isString()) return static_cast<std::string>(n);
-    if (n.isInt()) return std::to_string(static_cast<int>(n));
-    if (n.isReal()) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(n));
-      return buf;
-    }
-    HULLPOSE_THROW(where(field) << ": must be a scalar (number or text)");
+// Every key of `node` except those in `skip` becomes a stage parameter, its scalar text as written.
+Params params(const std::optional<yaml::Node>& node, const std::string& scope,
+              std::initializer_list<const char*> skip) {
+  Params p(scope);
+  if (!node) return p;
+  HULLPOSE_THROW_UNLESS(node->is_map(), node->where() << ": must be a mapping");
+  for (const std::string& key : node->keys()) {
+    bool skipped = false;
+    for (const char* s : skip) skipped = skipped || key == s;
+    if (!skipped) p.set(key, node->need(key).text());
   }
+  return p;
+}
 
-  std::string string(const cv::FileNode& parent, const char* key, const std::string& ctx, bool required,
-                     const std::string& fallback = "") const {
-    const cv::FileNode n = parent[key];
-    const std::string field = ctx.empty() ? key : ctx + "." + key;
-    if (!present(n)) {
-      HULLPOSE_THROW_UNLESS(!required, where(field) << ": missing (required)");
-      return fallback;
-    }
-    HULLPOSE_THROW_UNLESS(n.isString(), where(field) << ": must be text");
-    const std::string s = n;
-    HULLPOSE_THROW_UNLESS(!s.empty() || !required, where(field) << ": must not be empty");
-    return s;
-  }
-
-  int integer(const cv::FileNode& parent, const char* key, const std::string& ctx, bool required, int fallback,
-              int min, int max) const {
-    const cv::FileNode n = parent[key];
-    const std::string field = ctx.empty() ? key : ctx + "." + key;
-    if (!present(n)) {
-      HULLPOSE_THROW_UNLESS(!required, where(field) << ": missing (required)");
-      return fallback;
-    }
-    HULLPOSE_THROW_UNLESS(n.isInt(), where(field) << ": must be an integer");
-    const int v = n;
-    HULLPOSE_THROW_UNLESS(v >= min && v <= max,
-                          where(field) << ": must be in [" << min << ", " << max << "], got " << v);
-    return v;
-  }
-
-  cv::FileNode map(const cv::FileNode& parent, const char* key, const std::string& ctx, bool required) const {
-    const cv::FileNode n = parent[key];
-    const std::string field = ctx.empty() ? key : ctx + "." + key;
-    if (!present(n)) {
-      HULLPOSE_THROW_UNLESS(!required, where(field) << ": missing (required)");
-      return n;
-    }
-    HULLPOSE_THROW_UNLESS(n.isMap(), where(field) << ": must be a mapping");
-    return n;
-  }
-
-  // Every key of `node` except those in `skip` becomes a parameter.
-  Params params(const cv::FileNode& node, const std::string& ctx, std::initializer_list<const char*> skip) const {
-    Params p(where(ctx));
-    if (!present(node)) return p;
-    for (const std::string& key : node.keys()) {
-      bool skipped = false;
-      for (const char* s : skip) skipped = skipped || key == s;
-      if (!skipped) p.set(key, scalar_text(node[key], ctx + "." + key));
-    }
-    return p;
-  }
-
-  void only_keys(const cv::FileNode& node, const std::string& ctx, std::initializer_list<const char*> allowed) const {
-    if (!present(node)) return;
-    for (const std::string& key : node.keys()) {
-      bool ok = false;
-      for (const char* a : allowed) ok = ok || key == a;
-      HULLPOSE_THROW_UNLESS(ok, where(ctx.empty() ? key : ctx + "." + key) << ": unknown field");
-    }
-  }
-
- private:
-  std::string file_;
-};
+std::optional<yaml::Node> map(const yaml::Node& parent, const std::string& key, bool required) {
+  std::optional<yaml::Node> n =
+      required ? std::optional<yaml::Node>(parent.need(key)) : parent.get(key);
+  HULLPOSE_THROW_UNLESS(!n || n->is_map(), n->where() << ": must be a mapping");
+  return n;
+}
 
 std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
   const std::filesystem::path path(p);
   return path.is_absolute() ? path : base / path;
+}
+
+void read_post(const yaml::Node& post, PostConfig& c) {
+  c.open_radius = post.integer_or("open_radius", c.open_radius, 0, 32);
+  c.close_radius = post.integer_or("close_radius", c.close_radius, 0, 32);
+  c.min_blob_area = post.integer_or("min_blob_area", c.min_blob_area, 0, 1 << 26);
+  c.max_hole_area = post.integer_or("max_hole_area", c.max_hole_area, 0, 1 << 26);
+  if (const std::optional<yaml::Node> roi = post.get("roi")) {
+    HULLPOSE_THROW_UNLESS(roi->is_list() && roi->size() == 4,
+                          roi->where() << ": must be [x, y, width, height]");
+    const std::vector<yaml::Node> v = roi->items();
+    c.roi = cv::Rect(v[0].integer(), v[1].integer(), v[2].integer(), v[3].integer());
+    HULLPOSE_THROW_UNLESS(c.roi.x >= 0 && c.roi.y >= 0 && c.roi.width > 0 && c.roi.height > 0,
+                          roi->where() << ": x, y must be >= 0 and width, height > 0");
+  }
+}
+
+void read_lcm(const yaml::Node& lcm, LcmConfig& c) {
+  c.url = lcm.string_or("url", c.url);
+  c.silhouette_channel = lcm.string_or("silhouette_channel", c.silhouette_channel);
+  c.status_channel = lcm.string_or("status_channel", c.status_channel);
+  c.queue_depth = lcm.integer_or("queue_depth", c.queue_depth, 1, 1024);
+  c.status_period_ms = lcm.integer_or("status_period_ms", c.status_period_ms, 10, 600000);
+}
+
+void read_trigger(const yaml::Node& trigger, const std::filesystem::path& base_dir,
+                  TriggerConfig& t) {
+  t.enabled = true;
+  const yaml::Node edges_node = trigger.need("edges");
+  const std::string edges = edges_node.string();
+  const auto only_for = [&](const char* key, const char* kind) {
+    const std::optional<yaml::Node> n = trigger.get(key);
+    HULLPOSE_THROW_UNLESS(!n, n->where() << ": only for edges: " << kind);
+  };
+  if (edges == "gpiod") {
+    const yaml::Node chip_node = trigger.need("chip");
+    const std::string chip = chip_node.string();
+    const int line = static_cast<int>(trigger.need("line").integer(0, 65535));
+    only_for("path", "wire");
+    HULLPOSE_THROW_UNLESS(chip.find(':') == std::string::npos,
+                          chip_node.where() << ": '" << chip << "' must not contain ':'");
+    t.edges = "gpiod:" + chip + ":" + std::to_string(line);
+  } else if (edges == "wire") {
+    t.edges = "wire:" + resolve(base_dir, trigger.need("path").string()).string();
+    only_for("chip", "gpiod");
+    only_for("line", "gpiod");
+  } else {
+    HULLPOSE_THROW(edges_node.where()
+                   << ": unknown trigger input '" << edges
+                   << "' (gpiod: the trigger GPIO; wire: a simulated rig's wire)");
+  }
+  const std::optional<yaml::Node> camera_node = trigger.get("camera");
+  const std::string camera = camera_node ? camera_node->string() : "triggered";
+  HULLPOSE_THROW_UNLESS(camera == "triggered" || camera == "free_running",
+                        camera_node->where()
+                            << ": '" << camera << "' is not triggered or free_running");
+  t.free_running = camera == "free_running";
+  t.channel = trigger.string_or("channel", t.channel);
+  t.max_residual_us = trigger.integer_or("max_residual_us", t.max_residual_us, 1, 1'000'000);
+  t.wait_ms = trigger.integer_or("wait_ms", t.wait_ms, 0, 10'000);
+  t.connect_timeout_ms = trigger.integer_or("connect_timeout_ms", t.connect_timeout_ms, 0, 600'000);
+  t.clock_offset_ms = trigger.integer_or("clock_offset_ms", 0, -3'600'000, 3'600'000);
 }
 
 }  // namespace
@@ -105,98 +104,31 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
   c.base_dir = std::filesystem::absolute(file).parent_path();
   const std::string name = file.string();
   HULLPOSE_THROW_UNLESS(std::filesystem::is_regular_file(file), name << ": config file not found");
-  cv::FileStorage fs;
-  try {
-    fs.open(name, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& e) {
-    HULLPOSE_THROW(name << ": not valid YAML: " << e.err);
-  }
-  HULLPOSE_THROW_UNLESS(fs.isOpened(), name << ": cannot be read as YAML");
-  const Reader r(name);
-  const cv::FileNode root = fs.root();
-  HULLPOSE_THROW_UNLESS(root.isMap(), name << ": top level must be a mapping");
-  r.only_keys(root, "", {"camera_id", "rig_file", "source", "bgs", "post", "lcm", "trigger"});
+  const yaml::Document doc = yaml::Document::load(file);
+  const yaml::Node root = doc.root();
 
-  c.camera_id = r.integer(root, "camera_id", "", true, -1, 0, 63);
-  c.rig_file = resolve(c.base_dir, r.string(root, "rig_file", "", true));
+  c.camera_id = static_cast<int>(root.need("camera_id").integer(0, 63));
+  c.rig_file = resolve(c.base_dir, root.need("rig_file").string());
 
-  const cv::FileNode source = r.map(root, "source", "", true);
-  c.source.type = r.string(source, "type", "source", true);
-  c.source.params = r.params(source, "source", {"type"});
+  const yaml::Node source = *map(root, "source", true);
+  c.source.type = source.need("type").string();
+  c.source.params = params(source, name + ": source", {"type"});
+  source.mark_all_read();  // the source checks its own parameters (Params::expect_all_used)
 
-  const cv::FileNode bgs = r.map(root, "bgs", "", true);
-  r.only_keys(bgs, "bgs", {"method", "learn_frames", "background", "params"});
-  c.bgs.method = r.string(bgs, "method", "bgs", true);
-  c.bgs.learn_frames = r.integer(bgs, "learn_frames", "bgs", false, 30, 1, 100000);
-  const std::string background = r.string(bgs, "background", "bgs", false);
+  const yaml::Node bgs = *map(root, "bgs", true);
+  c.bgs.method = bgs.need("method").string();
+  c.bgs.learn_frames = bgs.integer_or("learn_frames", 30, 1, 100000);
+  const std::string background = bgs.string_or("background", "");
   if (!background.empty()) c.bgs.background = resolve(c.base_dir, background).string();
-  c.bgs.params = r.params(r.map(bgs, "params", "bgs", false), "bgs.params", {});
+  const std::optional<yaml::Node> bgs_params = map(bgs, "params", false);
+  c.bgs.params = params(bgs_params, name + ": bgs.params", {});
+  if (bgs_params) bgs_params->mark_all_read();
 
-  const cv::FileNode post = r.map(root, "post", "", false);
-  if (Reader::present(post)) {
-    r.only_keys(post, "post", {"open_radius", "close_radius", "min_blob_area", "max_hole_area", "roi"});
-    c.post.open_radius = r.integer(post, "open_radius", "post", false, c.post.open_radius, 0, 32);
-    c.post.close_radius = r.integer(post, "close_radius", "post", false, c.post.close_radius, 0, 32);
-    c.post.min_blob_area = r.integer(post, "min_blob_area", "post", false, c.post.min_blob_area, 0, 1 << 26);
-    c.post.max_hole_area = r.integer(post, "max_hole_area", "post", false, c.post.max_hole_area, 0, 1 << 26);
-    const cv::FileNode roi = post["roi"];
-    if (Reader::present(roi)) {
-      HULLPOSE_THROW_UNLESS(roi.isSeq() && roi.size() == 4, r.where("post.roi") << ": must be [x, y, width, height]");
-      for (int i = 0; i < 4; ++i)
-        HULLPOSE_THROW_UNLESS(roi[i].isInt(), r.where("post.roi") << ": element " << i << " must be an integer");
-      c.post.roi = cv::Rect(static_cast<int>(roi[0]), static_cast<int>(roi[1]), static_cast<int>(roi[2]),
-                            static_cast<int>(roi[3]));
-      HULLPOSE_THROW_UNLESS(c.post.roi.x >= 0 && c.post.roi.y >= 0 && c.post.roi.width > 0 && c.post.roi.height > 0,
-                            r.where("post.roi") << ": x, y must be >= 0 and width, height > 0");
-    }
-  }
-
-  const cv::FileNode lcm = r.map(root, "lcm", "", false);
-  if (Reader::present(lcm)) {
-    r.only_keys(lcm, "lcm", {"url", "silhouette_channel", "status_channel", "queue_depth", "status_period_ms"});
-    c.lcm.url = r.string(lcm, "url", "lcm", false, c.lcm.url);
-    c.lcm.silhouette_channel = r.string(lcm, "silhouette_channel", "lcm", false, c.lcm.silhouette_channel);
-    c.lcm.status_channel = r.string(lcm, "status_channel", "lcm", false, c.lcm.status_channel);
-    c.lcm.queue_depth = r.integer(lcm, "queue_depth", "lcm", false, c.lcm.queue_depth, 1, 1024);
-    c.lcm.status_period_ms = r.integer(lcm, "status_period_ms", "lcm", false, c.lcm.status_period_ms, 10, 600000);
-  }
-
-  const cv::FileNode trigger = r.map(root, "trigger", "", false);
-  if (Reader::present(trigger)) {
-    TriggerConfig& t = c.trigger;
-    t.enabled = true;
-    r.only_keys(trigger, "trigger", {"edges", "chip", "line", "path", "camera", "channel", "max_residual_us", "wait_ms",
-                                     "connect_timeout_ms", "clock_offset_ms"});
-    const std::string edges = r.string(trigger, "edges", "trigger", true);
-    const auto only_for = [&](const char* key, const char* kind) {
-      HULLPOSE_THROW_UNLESS(!Reader::present(trigger[key]),
-                            r.where(std::string("trigger.") + key) << ": only for edges: " << kind);
-    };
-    if (edges == "gpiod") {
-      const std::string chip = r.string(trigger, "chip", "trigger", true);
-      const int line = r.integer(trigger, "line", "trigger", true, 0, 0, 65535);
-      only_for("path", "wire");
-      HULLPOSE_THROW_UNLESS(chip.find(':') == std::string::npos, r.where("trigger.chip") << ": '" << chip
-                                                                                           << "' must not contain ':'");
-      t.edges = "gpiod:" + chip + ":" + std::to_string(line);
-    } else if (edges == "wire") {
-      t.edges = "wire:" + resolve(c.base_dir, r.string(trigger, "path", "trigger", true)).string();
-      only_for("chip", "gpiod");
-      only_for("line", "gpiod");
-    } else {
-      HULLPOSE_THROW(r.where("trigger.edges") << ": unknown trigger input '" << edges
-                                              << "' (gpiod: the trigger GPIO; wire: a simulated rig's wire)");
-    }
-    const std::string camera = r.string(trigger, "camera", "trigger", false, "triggered");
-    HULLPOSE_THROW_UNLESS(camera == "triggered" || camera == "free_running",
-                          r.where("trigger.camera") << ": '" << camera << "' is not triggered or free_running");
-    t.free_running = camera == "free_running";
-    t.channel = r.string(trigger, "channel", "trigger", false, t.channel);
-    t.max_residual_us = r.integer(trigger, "max_residual_us", "trigger", false, t.max_residual_us, 1, 1'000'000);
-    t.wait_ms = r.integer(trigger, "wait_ms", "trigger", false, t.wait_ms, 0, 10'000);
-    t.connect_timeout_ms = r.integer(trigger, "connect_timeout_ms", "trigger", false, t.connect_timeout_ms, 0, 600'000);
-    t.clock_offset_ms = r.integer(trigger, "clock_offset_ms", "trigger", false, 0, -3'600'000, 3'600'000);
-  }
+  if (const std::optional<yaml::Node> post = map(root, "post", false)) read_post(*post, c.post);
+  if (const std::optional<yaml::Node> lcm = map(root, "lcm", false)) read_lcm(*lcm, c.lcm);
+  if (const std::optional<yaml::Node> trigger = map(root, "trigger", false))
+    read_trigger(*trigger, c.base_dir, c.trigger);
+  doc.check_all_read();
   return c;
 }
 

@@ -32,7 +32,15 @@ Rig load_rig_for(const NodeConfig& c) {
 
 }  // namespace
 
-CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources,
+std::unique_ptr<bus::Bus> open_node_bus(const NodeConfig& config) {
+  try {
+    return bus::open_bus(config.lcm.url);
+  } catch (const Error& e) {
+    HULLPOSE_THROW(config.file.string() << ": lcm.url: " << e.what());
+  }
+}
+
+CameraNode::CameraNode(NodeConfig config, bus::Bus& bus, const SourceRegistry& sources,
                        std::unique_ptr<FrameTrigger> trigger)
     : config_(std::move(config)),
       rig_(load_rig_for(config_)),
@@ -66,12 +74,12 @@ CameraNode::CameraNode(NodeConfig config, const SourceRegistry& sources,
   counters_.add("capture_timeout", 0);  // named up front, so counting never allocates per frame
   counters_.add("no_trigger", 0);
   counters_.add("corrupt_frame", 0);
-  publisher_ =
-      std::make_unique<SilhouettePublisher>(config_.lcm, rig_.rig_id, config_.camera_id, counters_);
+  publisher_ = std::make_unique<SilhouettePublisher>(config_.lcm, bus, rig_.rig_id,
+                                                     config_.camera_id, counters_);
   trigger_ = std::move(trigger);
   if (!trigger_ && config_.trigger.enabled) {
-    trigger_ = std::make_unique<TriggerStage>(config_.trigger, config_.lcm, rig_.rig_id,
-                                              config_.camera_id, source_->triggerable());
+    trigger_ = std::make_unique<TriggerStage>(config_.trigger, bus, rig_.rig_id, config_.camera_id,
+                                              source_->triggerable());
   }
   mask_ = cv::Mat::zeros(camera_.height, camera_.width, CV_8UC1);
   roi_mask_.create(roi_.size(), CV_8UC1);

@@ -13,9 +13,12 @@ HULLPOSE_LOG_CATEGORY(Stage, "camera_node")
 constexpr int64_t kSimulatedExposureDelayUs = 0;
 }  // namespace
 
-TriggerStage::TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,
-                           bool simulated_sensor)
-    : config_(config), url_(lcm.url), camera_id_(camera_id), clock_{int64_t{config.clock_offset_ms} * 1000} {
+TriggerStage::TriggerStage(const TriggerConfig& config, bus::Bus& bus, std::string rig_id,
+                           int camera_id, bool simulated_sensor)
+    : config_(config),
+      bus_(bus),
+      camera_id_(camera_id),
+      clock_{int64_t{config.clock_offset_ms} * 1000} {
   listener_config_.rig_id = std::move(rig_id);
   listener_config_.matcher.max_residual_us = config_.max_residual_us;
   listener_config_.expose_after_edge_us = simulated_sensor ? kSimulatedExposureDelayUs : -1;
@@ -29,24 +32,27 @@ void TriggerStage::start() {
   } catch (const Error& e) {
     HULLPOSE_THROW("camera " << camera_id_ << ": " << e.what());
   }
-  bus_ = std::make_unique<lcm::LCM>(url_);
-  HULLPOSE_THROW_UNLESS(bus_->good(), "camera " << camera_id_ << ": trigger: cannot open LCM at '" << url_ << "'");
-  client_ = std::make_unique<trigger::TriggerClient>(*bus_, *edges_, listener_config_, clock_, config_.channel);
-  HULLPOSE_LOG(Stage, Info) << "camera " << camera_id_ << ": trigger input " << edges_->describe() << ", "
-                            << (listener_config_.expose_after_edge_us >= 0 ? "simulated sensor exposes on each edge"
-                                                                           : "camera exposes on the trigger line")
+  client_ = std::make_unique<trigger::TriggerClient>(bus_, *edges_, listener_config_, clock_,
+                                                     config_.channel);
+  HULLPOSE_LOG(Stage, Info) << "camera " << camera_id_ << ": trigger input " << edges_->describe()
+                            << ", "
+                            << (listener_config_.expose_after_edge_us >= 0
+                                    ? "simulated sensor exposes on each edge"
+                                    : "camera exposes on the trigger line")
                             << ", announcements on " << config_.channel;
 }
 
 TriggerStamp TriggerStage::to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) const {
   // node realtime - master = (node realtime - node clock) + (node clock - master).
-  const int64_t realtime_minus_node_clock = realtime_utime() - clock_.now_us();
-  return TriggerStamp{t.edge.seq, t.edge.utime, realtime_minus_node_clock + t.edge.offset_us, capture_utime};
+  const int64_t realtime_minus_node_clock = clock_.realtime_minus_node_us();
+  return TriggerStamp{t.edge.seq, t.edge.utime, realtime_minus_node_clock + t.edge.offset_us,
+                      capture_utime};
 }
 
 std::optional<TriggerStamp> TriggerStage::stamp(const Frame& frame) {
   HULLPOSE_ASSERT(client_);
-  const std::optional<trigger::TaggedFrame> t = client_->tag(frame.sequence, frame.capture_utime, config_.wait_ms);
+  const std::optional<trigger::TaggedFrame> t =
+      client_->tag(frame.sequence, frame.capture_utime, config_.wait_ms);
   if (!t) return std::nullopt;
   return to_stamp(*t, frame.capture_utime);
 }
@@ -56,11 +62,12 @@ std::optional<TriggerStamp> TriggerStage::next_instant(int timeout_ms) {
   const std::optional<trigger::TaggedFrame> t = client_->next_exposure(timeout_ms);
   if (!t) return std::nullopt;
   TriggerStamp s = to_stamp(*t, 0);
-  s.capture_utime = t->frame_us + (realtime_utime() - clock_.now_us());
+  s.capture_utime = t->frame_us + clock_.realtime_minus_node_us();
   return s;
 }
 
-void TriggerStage::offer(const Frame& frame, std::vector<std::pair<int64_t, TriggerStamp>>& decided) {
+void TriggerStage::offer(const Frame& frame,
+                         std::vector<std::pair<int64_t, TriggerStamp>>& decided) {
   HULLPOSE_ASSERT(client_);
   client_->offer(frame.sequence, frame.capture_utime, tagged_);
   decided.clear();

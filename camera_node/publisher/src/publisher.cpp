@@ -3,16 +3,21 @@
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace hullpose::camera_node {
 namespace {
 HULLPOSE_LOG_CATEGORY(Publish, "publisher")
 }
 
-SilhouettePublisher::SilhouettePublisher(const LcmConfig& config, std::string rig_id, int camera_id, Counters& counters)
-    : config_(config), rig_id_(std::move(rig_id)), camera_id_(camera_id), counters_(counters), lcm_(config.url) {
-  HULLPOSE_THROW_UNLESS(lcm_.good(), "lcm.url: cannot open LCM at '" << config.url
-                                                                     << "' (bad URL, or no multicast route?)");
+SilhouettePublisher::SilhouettePublisher(const LcmConfig& config, bus::Bus& bus, std::string rig_id,
+                                         int camera_id, Counters& counters)
+    : config_(config),
+      rig_id_(std::move(rig_id)),
+      camera_id_(camera_id),
+      counters_(counters),
+      bus_(bus) {
+  scratch_.resize(128 * 1024);  // a silhouette of any person, and a status, without allocating
   // Named up front: a counter allocates its name on first use, which must not be on the frame path.
   counters_.add("queue_full", 0);
   counters_.add("publish_error", 0);
@@ -38,14 +43,15 @@ SilhouettePublisher::~SilhouettePublisher() {
   thread_.join();
 }
 
-bool SilhouettePublisher::publish(const cv::Mat& mask, const SilhouetteStamp& stamp, int32_t* encode_us) {
+bool SilhouettePublisher::publish(const cv::Mat& mask, const SilhouetteStamp& stamp,
+                                  int32_t* encode_us) {
   std::unique_lock lock(mutex_);
   if (count_ == ring_.size()) {
     lock.unlock();
     if (encode_us) *encode_us = 0;
     counters_.add("queue_full");
-    HULLPOSE_LOG(Publish, Debug) << "camera " << camera_id_ << ": silhouette of trigger " << stamp.trigger_seq
-                                 << " dropped: network queue full";
+    HULLPOSE_LOG(Publish, Debug) << "camera " << camera_id_ << ": silhouette of trigger "
+                                 << stamp.trigger_seq << " dropped: network queue full";
     return false;
   }
   // The slot at the tail is ours: the publisher thread only reads slots inside [head, head+count).
@@ -112,19 +118,20 @@ void SilhouettePublisher::run() {
       status_.reset();
       sending_ = true;
       lock.unlock();
-      if (lcm_.publish(config_.status_channel, &*status) != 0) counters_.add("publish_error");
+      if (!wire::publish(bus_, config_.status_channel, *status, scratch_))
+        counters_.add("publish_error");
       lock.lock();
       sending_ = false;
     } else if (count_ > 0) {
       const hullpose_msg::silhouette_t& m = ring_[head_];
       sending_ = true;
       lock.unlock();
-      // LCM encodes into its own buffer; this thread, not capture, pays for it.
-      const int r = lcm_.publish(config_.silhouette_channel, &m);
-      if (r != 0) counters_.add("publish_error");
+      // Encoded here: this thread, not capture, pays for it.
+      const bool sent = wire::publish(bus_, config_.silhouette_channel, m, scratch_);
+      if (!sent) counters_.add("publish_error");
       lock.lock();
       sending_ = false;
-      if (r == 0) {
+      if (sent) {
         bytes_sent_ += m.getEncodedSize();
         ++messages_sent_;
       }

@@ -1,19 +1,43 @@
 #include "hullpose/camera_node/file_source.hpp"
 #include "hullpose/camera_node/frame_source.hpp"
-#include "hullpose/camera_node/libcamera_source.hpp"
-#include "hullpose/camera_node/synthetic_source.hpp"
 #include "hullpose/camera_node/v4l2_source.hpp"
 #include "hullpose/common/check.hpp"
+#if HULLPOSE_HAVE_LIBCAMERA
+#include "hullpose/camera_node/libcamera_source.hpp"
+#endif
+#if HULLPOSE_HAVE_SYNTHETIC_SOURCE
+#include "hullpose/camera_node/synthetic_source.hpp"
+#endif
 
 namespace hullpose::camera_node {
 
 SourceRegistry& SourceRegistry::builtin() {
   static SourceRegistry registry = [] {
     SourceRegistry r;
-    r.add("libcamera", [](const Params& p, const SourceContext& c) { return std::make_unique<LibcameraSource>(p, c); });
-    r.add("v4l2", [](const Params& p, const SourceContext& c) { return std::make_unique<V4l2Source>(p, c); });
-    r.add("file", [](const Params& p, const SourceContext& c) { return std::make_unique<FileSource>(p, c); });
-    r.add("synthetic", [](const Params& p, const SourceContext& c) { return std::make_unique<SyntheticSource>(p, c); });
+#if HULLPOSE_HAVE_LIBCAMERA
+    r.add("libcamera", [](const Params& p, const SourceContext& c) {
+      return std::make_unique<LibcameraSource>(p, c);
+    });
+#else
+    r.add_unavailable("libcamera",
+                      "this build has no libcamera (install libcamera-dev and configure with "
+                      "-DHULLPOSE_LIBCAMERA=ON)");
+#endif
+    r.add("v4l2", [](const Params& p, const SourceContext& c) {
+      return std::make_unique<V4l2Source>(p, c);
+    });
+    r.add("file", [](const Params& p, const SourceContext& c) {
+      return std::make_unique<FileSource>(p, c);
+    });
+#if HULLPOSE_HAVE_SYNTHETIC_SOURCE
+    r.add("synthetic", [](const Params& p, const SourceContext& c) {
+      return std::make_unique<SyntheticSource>(p, c);
+    });
+#else
+    r.add_unavailable(
+        "synthetic",
+        "this build has no synthetic source (configure with -DHULLPOSE_SYNTHETIC_SOURCE=ON)");
+#endif
     return r;
   }();
   return registry;
@@ -27,6 +51,12 @@ void SourceRegistry::add(std::string name, SourceFactory factory) {
     }
   }
   factories_.emplace_back(std::move(name), std::move(factory));
+}
+
+void SourceRegistry::add_unavailable(std::string name, std::string why) {
+  add(name, [name, why](const Params& p, const SourceContext&) -> std::unique_ptr<FrameSource> {
+    HULLPOSE_THROW(p.scope() << ".type: source '" << name << "': " << why);
+  });
 }
 
 std::vector<std::string> SourceRegistry::names() const {
@@ -45,7 +75,8 @@ std::unique_ptr<FrameSource> SourceRegistry::create(const std::string& name, con
   }
   std::string known;
   for (const auto& entry : factories_) known += (known.empty() ? "" : ", ") + entry.first;
-  HULLPOSE_THROW(params.scope() << ".type: unknown source '" << name << "' (known: " << known << ")");
+  HULLPOSE_THROW(params.scope() << ".type: unknown source '" << name << "' (known: " << known
+                                << ")");
 }
 
 }  // namespace hullpose::camera_node

@@ -8,17 +8,18 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#if HULLPOSE_HAVE_LIBGPIOD
 #include <gpiod.hpp>
+#endif
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/time.hpp"
 
 namespace hullpose::trigger {
 
-int64_t NodeClock::now_us() const { return monotonic_us() + offset_us; }
-
 namespace {
 
+#if HULLPOSE_HAVE_LIBGPIOD
 // libgpiod v1 line events. The kernel stamps them with CLOCK_MONOTONIC (Linux >= 5.7).
 class GpiodEdgeSource final : public EdgeSource {
  public:
@@ -29,12 +30,15 @@ class GpiodEdgeSource final : public EdgeSource {
       line_ = chip_.get_line(offset);
       line_.request({"hullpose-camera-node", gpiod::line_request::EVENT_RISING_EDGE, 0});
     } catch (const std::exception& e) {
-      HULLPOSE_THROW("trigger input " << name_ << ": cannot open GPIO chip '" << chip << "' line " << offset << " ("
-                                      << e.what() << "); without the trigger GPIO use wire:PATH or a free-running camera");
+      HULLPOSE_THROW("trigger input "
+                     << name_ << ": cannot open GPIO chip '" << chip << "' line " << offset << " ("
+                     << e.what()
+                     << "); without the trigger GPIO use wire:PATH or a free-running camera");
     }
     fd_ = line_.event_get_fd();
-    HULLPOSE_THROW_UNLESS(::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK) == 0,
-                          "trigger input " << name_ << ": cannot make the event descriptor non-blocking");
+    HULLPOSE_THROW_UNLESS(
+        ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK) == 0,
+        "trigger input " << name_ << ": cannot make the event descriptor non-blocking");
   }
   int fd() const override { return fd_; }
   bool read(int64_t& edge_us) override {
@@ -55,6 +59,7 @@ class GpiodEdgeSource final : public EdgeSource {
   gpiod::line line_;
   int fd_ = -1;
 };
+#endif
 
 // The simulated wire: 8-byte CLOCK_MONOTONIC nanosecond stamps from the trigger master. If the
 // master goes away, reconnects (at most every 200 ms) so a restarted master is picked up.
@@ -62,12 +67,15 @@ class WireEdgeSource final : public EdgeSource {
  public:
   // Waits up to connect_timeout_ms for the master's wire to appear (processes of a simulated rig
   // start in any order).
-  WireEdgeSource(const std::string& path, const NodeClock& clock, int connect_timeout_ms) : path_(path), clock_(clock) {
+  WireEdgeSource(const std::string& path, const NodeClock& clock, int connect_timeout_ms)
+      : path_(path), clock_(clock) {
     const int64_t until = monotonic_us() + int64_t{connect_timeout_ms} * 1000;
     while (!connect_wire() && monotonic_us() < until) ::usleep(50'000);
-    HULLPOSE_THROW_UNLESS(fd_ >= 0, "trigger input wire:" << path_ << ": cannot connect to the trigger master's wire ("
-                                                          << std::strerror(errno) << "); is hullpose-trigger-master --line wire:"
-                                                          << path_ << " running?");
+    HULLPOSE_THROW_UNLESS(
+        fd_ >= 0, "trigger input wire:"
+                      << path_ << ": cannot connect to the trigger master's wire ("
+                      << std::strerror(errno)
+                      << "); is hullpose-trigger-master --line wire:" << path_ << " running?");
   }
   ~WireEdgeSource() override {
     if (fd_ >= 0) ::close(fd_);
@@ -126,15 +134,27 @@ class WireEdgeSource final : public EdgeSource {
 
 }  // namespace
 
-std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock, int connect_timeout_ms) {
-  if (spec.rfind("wire:", 0) == 0) return std::make_unique<WireEdgeSource>(spec.substr(5), clock, connect_timeout_ms);
+std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock,
+                                             int connect_timeout_ms) {
+  if (spec.rfind("wire:", 0) == 0)
+    return std::make_unique<WireEdgeSource>(spec.substr(5), clock, connect_timeout_ms);
   if (spec.rfind("gpiod:", 0) == 0) {
     const auto colon = spec.rfind(':');
     HULLPOSE_THROW_UNLESS(colon > 6, "trigger input '" << spec << "': expected gpiod:CHIP:OFFSET");
     const std::string offset = spec.substr(colon + 1);
-    HULLPOSE_THROW_UNLESS(!offset.empty() && offset.size() < 6 && std::all_of(offset.begin(), offset.end(), ::isdigit),
-                          "trigger input '" << spec << "': offset '" << offset << "' is not a line number");
-    return std::make_unique<GpiodEdgeSource>(spec.substr(6, colon - 6), static_cast<unsigned>(std::stoul(offset)), clock);
+    HULLPOSE_THROW_UNLESS(
+        !offset.empty() && offset.size() < 6 &&
+            std::all_of(offset.begin(), offset.end(), ::isdigit),
+        "trigger input '" << spec << "': offset '" << offset << "' is not a line number");
+#if HULLPOSE_HAVE_LIBGPIOD
+    return std::make_unique<GpiodEdgeSource>(spec.substr(6, colon - 6),
+                                             static_cast<unsigned>(std::stoul(offset)), clock);
+#else
+    HULLPOSE_THROW("trigger input '"
+                   << spec
+                   << "': this build has no libgpiod (install libgpiod-dev and configure "
+                      "with -DHULLPOSE_GPIOD=ON); without the trigger GPIO use wire:PATH");
+#endif
   }
   HULLPOSE_THROW("trigger input '" << spec << "': expected gpiod:CHIP:OFFSET or wire:PATH");
 }

@@ -5,40 +5,35 @@
 #include <algorithm>
 
 #include "hullpose/common/check.hpp"
-#include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace hullpose::trigger {
 
-TriggerClient::TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerConfig& config, const NodeClock& clock,
-                             const std::string& channel, std::function<int64_t()> node_now)
-    : bus_(bus), edges_(edges), clock_(clock), node_now_(std::move(node_now)), listener_(config, edges) {
-  if (!node_now_) node_now_ = [c = clock_] { return c.now_us(); };
-  HULLPOSE_THROW_UNLESS(bus_.good(), "trigger client: the LCM handle is not usable");
-  subscription_ = bus_.subscribe(channel, &TriggerClient::on_trigger, this);
+TriggerClient::TriggerClient(bus::Bus& bus, EdgeSource& edges, const ListenerConfig& config,
+                             const NodeClock& clock, const std::string& channel)
+    : bus_(bus), edges_(edges), clock_(clock), listener_(config, edges) {
+  subscription_ = wire::subscribe(
+      bus_, channel, msg_, counters_, "malformed_trigger",
+      [this](const hullpose_msg::trigger_t& t) { listener_.on_announcement(t, clock_.now_us()); });
   tagged_.reserve(MapperConfig::kEdges);
-  for (const char* name : {"malformed_trigger", "tag_after_timeout", "untagged_frame", "overrun"}) counters_.add(name, 0);
+  for (const char* name : {"malformed_trigger", "tag_after_timeout", "untagged_frame", "overrun"})
+    counters_.add(name, 0);
 }
 
-TriggerClient::~TriggerClient() { bus_.unsubscribe(subscription_); }
-
-void TriggerClient::on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-  if (!wire::trigger_ok(rbuf->data, rbuf->data_size) ||
-      msg_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) {
-    counters_.add("malformed_trigger");
-    return;
-  }
-  listener_.on_announcement(msg_, node_now_());
-}
+TriggerClient::~TriggerClient() = default;
 
 template <class Done>
 bool TriggerClient::pump(int wait_ms, Done&& done) {
+  // Waiting is real time (poll); the times of edges, announcements and frames come from the
+  // node clock, which tests drive.
   const int64_t until = monotonic_us() + int64_t{wait_ms} * 1000;
   for (;;) {
-    pollfd fds[2] = {{edges_.fd(), POLLIN, 0}, {bus_.getFileno(), POLLIN, 0}};
-    while (::poll(&fds[1], 1, 0) > 0 && (fds[1].revents & POLLIN)) bus_.handle();
+    pollfd fds[2] = {{edges_.fd(), POLLIN, 0}, {bus_.fd(), POLLIN, 0}};
+    while (bus_.handle(0)) {
+    }
     const size_t before = tagged_.size();
-    listener_.poll(node_now_(), tagged_);
+    listener_.poll(clock_.now_us(), tagged_);
     if (done(before)) return true;
     const int64_t left_us = until - monotonic_us();
     if (left_us <= 0) return false;
@@ -48,17 +43,19 @@ bool TriggerClient::pump(int wait_ms, Done&& done) {
       // millisecond and is handled then, so the node wakes once per trigger, not once per message.
       ::poll(&fds[0], 1, static_cast<int>(1 + left_us / 1000));
     } else {
-      ::poll(fds[0].fd >= 0 ? fds : &fds[1], fds[0].fd >= 0 ? 2 : 1, static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5)));
+      ::poll(fds[0].fd >= 0 ? fds : &fds[1], fds[0].fd >= 0 ? 2 : 1,
+             static_cast<int>(std::min<int64_t>(1 + left_us / 1000, 5)));
     }
   }
 }
 
 int64_t TriggerClient::to_node_clock(int64_t frame_utime) const {
   // Sensor timestamps are on the realtime clock, edges on the monotonic one (+ the board offset).
-  return frame_utime - (realtime_utime() - monotonic_us()) + clock_.offset_us;
+  return frame_utime - clock_.realtime_minus_node_us();
 }
 
-void TriggerClient::offer(int64_t frame_id, int64_t frame_utime, std::vector<TaggedFrame>& decided) {
+void TriggerClient::offer(int64_t frame_id, int64_t frame_utime,
+                          std::vector<TaggedFrame>& decided) {
   listener_.on_frame(frame_id, to_node_clock(frame_utime));
   tagged_.clear();
   pump(0, [](size_t) { return true; });

@@ -9,7 +9,9 @@
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+#if HULLPOSE_HAVE_LIBGPIOD
 #include <gpiod.hpp>
+#endif
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
@@ -20,17 +22,20 @@ HULLPOSE_LOG_CATEGORY(Line, "trigger_line")
 
 namespace {
 
+#if HULLPOSE_HAVE_LIBGPIOD
 class GpiodTriggerLine final : public TriggerLine {
  public:
-  GpiodTriggerLine(const std::string& chip, unsigned offset) : name_("gpiod:" + chip + ":" + std::to_string(offset)) {
+  GpiodTriggerLine(const std::string& chip, unsigned offset)
+      : name_("gpiod:" + chip + ":" + std::to_string(offset)) {
     try {
       chip_.open(chip, gpiod::chip::OPEN_LOOKUP);
       line_ = chip_.get_line(offset);
       line_.request({"hullpose-trigger-master", gpiod::line_request::DIRECTION_OUTPUT, 0}, 0);
     } catch (const std::exception& e) {
-      HULLPOSE_THROW("trigger line " << name_ << ": cannot open GPIO chip '" << chip << "' line " << offset
-                                     << " (" << e.what()
-                                     << "); on a machine without the trigger GPIO use --line wire:PATH or sim");
+      HULLPOSE_THROW("trigger line "
+                     << name_ << ": cannot open GPIO chip '" << chip << "' line " << offset << " ("
+                     << e.what()
+                     << "); on a machine without the trigger GPIO use --line wire:PATH or sim");
     }
   }
   int64_t set(bool high) override {
@@ -44,6 +49,7 @@ class GpiodTriggerLine final : public TriggerLine {
   gpiod::chip chip_;
   gpiod::line line_;
 };
+#endif
 
 // The simulated wire: a SOCK_SEQPACKET listener; each connected node receives one 8-byte
 // CLOCK_MONOTONIC nanosecond stamp per rising edge. Never blocks the pulse loop: new nodes are
@@ -55,11 +61,13 @@ class WireTriggerLine final : public TriggerLine {
     HULLPOSE_THROW_UNLESS(!path.empty() && path.size() < sizeof(addr.sun_path),
                           "trigger line wire:" << path << ": socket path empty or too long");
     listen_fd_ = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    HULLPOSE_THROW_UNLESS(listen_fd_ >= 0, "trigger line wire:" << path << ": socket: " << std::strerror(errno));
+    HULLPOSE_THROW_UNLESS(listen_fd_ >= 0,
+                          "trigger line wire:" << path << ": socket: " << std::strerror(errno));
     addr.sun_family = AF_UNIX;
     std::memcpy(addr.sun_path, path.c_str(), path.size());
     ::unlink(path.c_str());
-    if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 || ::listen(listen_fd_, 64) != 0) {
+    if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 ||
+        ::listen(listen_fd_, 64) != 0) {
       const int err = errno;
       ::close(listen_fd_);
       HULLPOSE_THROW("trigger line wire:" << path << ": bind/listen: " << std::strerror(err));
@@ -81,7 +89,8 @@ class WireTriggerLine final : public TriggerLine {
     const int64_t stamp_ns = static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
     accept_new();
     for (size_t i = 0; i < clients_.size();) {
-      if (::send(clients_[i], &stamp_ns, sizeof(stamp_ns), MSG_DONTWAIT | MSG_NOSIGNAL) != sizeof(stamp_ns)) {
+      if (::send(clients_[i], &stamp_ns, sizeof(stamp_ns), MSG_DONTWAIT | MSG_NOSIGNAL) !=
+          sizeof(stamp_ns)) {
         HULLPOSE_LOG(Line, Info) << "wire:" << path_ << ": node disconnected";
         ::close(clients_[i]);
         clients_[i] = clients_.back();
@@ -133,9 +142,19 @@ std::unique_ptr<TriggerLine> open_trigger_line(const std::string& spec) {
     HULLPOSE_THROW_UNLESS(colon > 6, "trigger line '" << spec << "': expected gpiod:CHIP:OFFSET");
     const std::string chip = spec.substr(6, colon - 6);
     const std::string offset = spec.substr(colon + 1);
-    HULLPOSE_THROW_UNLESS(!offset.empty() && std::all_of(offset.begin(), offset.end(), ::isdigit) && offset.size() < 6,
-                          "trigger line '" << spec << "': offset '" << offset << "' is not a line number");
+    HULLPOSE_THROW_UNLESS(
+        !offset.empty() && std::all_of(offset.begin(), offset.end(), ::isdigit) &&
+            offset.size() < 6,
+        "trigger line '" << spec << "': offset '" << offset << "' is not a line number");
+#if HULLPOSE_HAVE_LIBGPIOD
     return std::make_unique<GpiodTriggerLine>(chip, static_cast<unsigned>(std::stoul(offset)));
+#else
+    HULLPOSE_THROW(
+        "trigger line '"
+        << spec
+        << "': this build has no libgpiod (install libgpiod-dev and configure "
+           "with -DHULLPOSE_GPIOD=ON); without the trigger GPIO use --line wire:PATH or sim");
+#endif
   }
   HULLPOSE_THROW("trigger line '" << spec << "': expected gpiod:CHIP:OFFSET, wire:PATH or sim");
 }

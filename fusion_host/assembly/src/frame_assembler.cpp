@@ -4,8 +4,8 @@
 #include <cstdlib>
 
 #include "hullpose/common/check.hpp"
-#include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/log.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace hullpose::fusion {
 HULLPOSE_LOG_CATEGORY(Assembly, "assembly")
@@ -15,9 +15,11 @@ FrameAssembler::FrameAssembler(const Rig& rig, const AssemblerConfig& config, On
   const int n = static_cast<int>(rig.cameras.size());
   HULLPOSE_THROW_UNLESS(n > 0, "frame assembly: rig '" << rig.rig_id << "' has no cameras");
   min_cameras_ = config.min_cameras > 0 ? config.min_cameras : std::max(1, n - 2);
-  HULLPOSE_THROW_UNLESS(min_cameras_ <= n, "frame assembly: min_cameras " << config.min_cameras << " exceeds the "
-                                                                          << n << " cameras of rig '" << rig.rig_id << "'");
-  HULLPOSE_THROW_UNLESS(config.deadline_us > 0, "frame assembly: deadline must be positive, got " << config.deadline_us << " us");
+  HULLPOSE_THROW_UNLESS(min_cameras_ <= n, "frame assembly: min_cameras "
+                                               << config.min_cameras << " exceeds the " << n
+                                               << " cameras of rig '" << rig.rig_id << "'");
+  HULLPOSE_THROW_UNLESS(config.deadline_us > 0, "frame assembly: deadline must be positive, got "
+                                                    << config.deadline_us << " us");
   HULLPOSE_THROW_UNLESS(config.max_open >= 1 && config.max_open <= 256,
                         "frame assembly: max_open " << config.max_open << " outside 1..256");
   slots_.resize(config.max_open);
@@ -30,24 +32,27 @@ FrameAssembler::FrameAssembler(const Rig& rig, const AssemblerConfig& config, On
 }
 
 size_t FrameAssembler::open_frames() const {
-  return static_cast<size_t>(std::count_if(slots_.begin(), slots_.end(), [](const Slot& s) { return s.open; }));
+  return static_cast<size_t>(
+      std::count_if(slots_.begin(), slots_.end(), [](const Slot& s) { return s.open; }));
 }
 
-void FrameAssembler::on_bytes(std::span<const uint8_t> lcm_bytes, int64_t received_utime, int64_t now_us) {
-  // lcm-gen's decoder trusts length fields: check them first (common/lcm_wire.hpp).
-  if (!wire::silhouette_ok(lcm_bytes.data(), lcm_bytes.size()) ||
-      msg_.decode(lcm_bytes.data(), 0, static_cast<int>(lcm_bytes.size())) != static_cast<int>(lcm_bytes.size())) {
+void FrameAssembler::on_bytes(std::span<const uint8_t> lcm_bytes, int64_t received_utime,
+                              int64_t now_us) {
+  if (!wire::decode(lcm_bytes, msg_)) {
     counters_.add("malformed_lcm");
-    HULLPOSE_LOG(Assembly, Debug) << "dropped a SILHOUETTE message that is not a silhouette_t (" << lcm_bytes.size() << " bytes)";
+    HULLPOSE_LOG(Assembly, Debug) << "dropped a SILHOUETTE message that is not a silhouette_t ("
+                                  << lcm_bytes.size() << " bytes)";
     return;
   }
   on_silhouette(msg_, received_utime, now_us);
 }
 
-void FrameAssembler::on_silhouette(const hullpose_msg::silhouette_t& m, int64_t received_utime, int64_t now_us) {
+void FrameAssembler::on_silhouette(const hullpose_msg::silhouette_t& m, int64_t received_utime,
+                                   int64_t now_us) {
   auto drop = [&](const char* reason) {
     counters_.add(reason);
-    HULLPOSE_LOG(Assembly, Debug) << "dropped silhouette camera " << m.camera_id << " seq " << m.trigger_seq << ": " << reason;
+    HULLPOSE_LOG(Assembly, Debug) << "dropped silhouette camera " << m.camera_id << " seq "
+                                  << m.trigger_seq << ": " << reason;
   };
   if (m.rig_id != rig_.rig_id) return drop("foreign_rig");
   const CameraModel* cam = rig_.find(m.camera_id);
@@ -60,27 +65,33 @@ void FrameAssembler::on_silhouette(const hullpose_msg::silhouette_t& m, int64_t 
   if (!plausible(m.trigger_seq, m.utime, received_utime, now_us)) return drop("implausible_time");
   Slot* slot = find_or_open(m.trigger_seq, m.utime);
   if (!slot) return drop("late");
-  if (std::llabs(m.utime - slot->utime) > config_.utime_tolerance_us) return drop("inconsistent_utime");
+  if (std::llabs(m.utime - slot->utime) > config_.utime_tolerance_us)
+    return drop("inconsistent_utime");
   const auto index = static_cast<size_t>(cam - rig_.cameras.data());
   if (slot->has[index]) return drop("duplicate");
 
   SilhouetteHeader header;
-  const CodecError err = decode_silhouette(m.payload, DecodeLimits{cam->width, cam->height}, slot->masks[index], &header);
+  const CodecError err = decode_silhouette(m.payload, DecodeLimits{cam->width, cam->height},
+                                           slot->masks[index], &header);
   if (err != CodecError::kNone) {
     counters_.add("decode_error");
-    HULLPOSE_LOG(Assembly, Debug) << "camera " << m.camera_id << " seq " << m.trigger_seq << ": " << to_string(err);
+    HULLPOSE_LOG(Assembly, Debug) << "camera " << m.camera_id << " seq " << m.trigger_seq << ": "
+                                  << to_string(err);
     return;
   }
   if (header.width != cam->width || header.height != cam->height) return drop("wrong_size");
-  if (header.roi != PixelRoi{m.roi_x, m.roi_y, m.roi_width, m.roi_height}) return drop("bad_fields");
+  if (header.roi != PixelRoi{m.roi_x, m.roi_y, m.roi_width, m.roi_height})
+    return drop("bad_fields");
 
   slot->has[index] = 1;
-  slot->views[index] = View{m.camera_id, static_cast<int>(index), &slot->masks[index], header.roi,
-                            m.capture_utime, m.node_done_utime, received_utime};
+  slot->views[index] =
+      View{m.camera_id,     static_cast<int>(index), &slot->masks[index], header.roi,
+           m.capture_utime, m.node_done_utime,       received_utime};
   ++slot->present;
   slot->camera_mask |= uint64_t{1} << m.camera_id;
   slot->last_received_utime = std::max(slot->last_received_utime, received_utime);
-  if (!slot->has_reference || (slot->from_trigger_only && config_.deadline_from == DeadlineFrom::kFirstArrival)) {
+  if (!slot->has_reference ||
+      (slot->from_trigger_only && config_.deadline_from == DeadlineFrom::kFirstArrival)) {
     slot->reference_us = now_us;
     slot->has_reference = true;
   }
@@ -108,7 +119,8 @@ void FrameAssembler::on_trigger(const hullpose_msg::trigger_t& t, int64_t now_us
     if (epoch_ != 0) {
       // The master restarted: its sequence counts from 0 again. The open frames belong to the
       // old run: close them now, so that their sequences cannot make the new ones look late.
-      HULLPOSE_LOG(Assembly, Info) << "trigger epoch " << epoch_ << " -> " << t.epoch << ": master restarted";
+      HULLPOSE_LOG(Assembly, Info)
+          << "trigger epoch " << epoch_ << " -> " << t.epoch << ": master restarted";
       counters_.add("epoch_change");
       flush();
       high_seq_ = -1;
@@ -120,7 +132,8 @@ void FrameAssembler::on_trigger(const hullpose_msg::trigger_t& t, int64_t now_us
   }
   {
     triggers_[static_cast<size_t>(t.seq) % kTriggerRing] = {t.seq, t.utime, t.period_us};
-    if (t.seq > newest_trigger_ || now_us - newest_trigger_at_us_ > 1'000'000) newest_trigger_ = t.seq;
+    if (t.seq > newest_trigger_ || now_us - newest_trigger_at_us_ > 1'000'000)
+      newest_trigger_ = t.seq;
     newest_trigger_at_us_ = now_us;
   }
   Slot* slot = find_or_open(t.seq, t.utime);
@@ -140,7 +153,8 @@ FrameAssembler::Slot* FrameAssembler::find_or_open(int64_t seq, int64_t utime) {
   if (utime <= high_utime_) return nullptr;
   if (seq <= high_seq_) {
     if (utime < high_utime_ + kRestartGapUs) return nullptr;
-    HULLPOSE_LOG(Assembly, Info) << "trigger sequence restarted (" << high_seq_ << " -> " << seq << "): master restart";
+    HULLPOSE_LOG(Assembly, Info) << "trigger sequence restarted (" << high_seq_ << " -> " << seq
+                                 << "): master restart";
     counters_.add("seq_restart");
     high_seq_ = -1;
   }
@@ -171,7 +185,8 @@ FrameAssembler::Slot* FrameAssembler::find_or_open(int64_t seq, int64_t utime) {
   return free;
 }
 
-bool FrameAssembler::plausible(int64_t seq, int64_t utime, int64_t received_utime, int64_t now_us) const {
+bool FrameAssembler::plausible(int64_t seq, int64_t utime, int64_t received_utime,
+                               int64_t now_us) const {
   // One bogus frame far in the future would make every real one "late": while announcements
   // flow, the trigger time must fit the announced ones (the master's own pulse jitter can reach
   // tens of ms under load, so the bounds come from announced times, not the nominal grid);
@@ -181,10 +196,12 @@ bool FrameAssembler::plausible(int64_t seq, int64_t utime, int64_t received_utim
     return std::llabs(utime - received_utime) <= config_.max_clock_skew_us;
   const LastTrigger& newest = triggers_[static_cast<size_t>(newest_trigger_) % kTriggerRing];
   const LastTrigger& same = triggers_[static_cast<size_t>(seq) % kTriggerRing];
-  if (same.period_us > 0 && same.seq == seq) return std::llabs(utime - same.utime) <= same.period_us / 2;
+  if (same.period_us > 0 && same.seq == seq)
+    return std::llabs(utime - same.utime) <= same.period_us / 2;
   if (seq > newest.seq) {
     const int64_t steps = seq - newest.seq;
-    return steps <= 2 && utime > newest.utime && utime <= newest.utime + (steps + 1) * newest.period_us;
+    return steps <= 2 && utime > newest.utime &&
+           utime <= newest.utime + (steps + 1) * newest.period_us;
   }
   // An announcement this host missed: between its neighbours in time.
   const LastTrigger* lo = nullptr;
@@ -262,8 +279,9 @@ void FrameAssembler::close(Slot& slot) {
   } else {
     f.status = FrameStatus::kTooFew;
     counters_.add(slot.present == 0 ? "no_views" : "too_few_cameras");
-    HULLPOSE_LOG(Assembly, Debug) << "seq " << slot.seq << ": " << slot.present << " of " << rig_.cameras.size()
-                                  << " cameras, below min_cameras " << min_cameras_;
+    HULLPOSE_LOG(Assembly, Debug) << "seq " << slot.seq << ": " << slot.present << " of "
+                                  << rig_.cameras.size() << " cameras, below min_cameras "
+                                  << min_cameras_;
   }
   on_frame_(f);
 }

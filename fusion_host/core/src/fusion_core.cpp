@@ -32,6 +32,23 @@ FusionCore::FusionCore(const Rig& rig, const FusionOptions& options, Counters* c
 
 FusionCore::~FusionCore() = default;
 
+template <class Step>
+bool FusionCore::on_gpu(Step&& step) {
+  if (!cuda_) return false;
+  try {
+    step();
+    return true;
+  } catch (const std::exception& e) {
+    // A CUDA error mid-run (device lost, out of memory, a driver fault) must not end the live
+    // service: this frame and every later one run on the CPU path, which gives the same voxels.
+    HULLPOSE_LOG(Fusion, Error) << "CUDA backend failed (" << e.what() << "); continuing on the CPU";
+    if (counters_) counters_->add("fusion.cuda_error");
+    cuda_.reset();
+    backend_ = gpu::Backend::kCpu;
+    return false;
+  }
+}
+
 const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes) {
   FusionResult& r = result_;
   r.timings = {};
@@ -43,16 +60,13 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
   const StageTimer total;
 
   StageTimer t;
-  if (cuda_)
-    cuda_->carve(views, r.hull, r.carve, fg_boxes);
-  else
+  if (!on_gpu([&] { cuda_->carve(views, r.hull, r.carve, fg_boxes); }))
     carver_.carve(views, r.hull, r.carve, fg_boxes);
   r.timings.carve_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
   if (counters_) {
     if (!r.carve.missing_cameras.empty()) counters_->add("fusion.camera_missing", static_cast<int64_t>(r.carve.missing_cameras.size()));
     if (!r.carve.rejected_cameras.empty()) counters_->add("fusion.mask_rejected", static_cast<int64_t>(r.carve.rejected_cameras.size()));
   }
-  for (int id : r.carve.rejected_cameras) HULLPOSE_LOG(Fusion, Debug) << "camera " << id << ": mask of wrong size or type, skipped";
   if (!r.carve.valid) {
     r.failure = FusionFailure::kTooFewViews;
   } else if (r.carve.voxels == 0) {
@@ -74,8 +88,8 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
   r.skeleton = r.hull;  // same size: copies into the existing allocation
   if (options_.skeletoniser == Skeletoniser::kD6i1d)
     r.thin = d6i1d_.thin(r.skeleton);
-  else
-    r.thin = cuda_ ? cuda_->thin(r.skeleton) : ck3_.thin(r.skeleton);
+  else if (!on_gpu([&] { r.thin = cuda_->thin(r.skeleton); }))
+    r.thin = ck3_.thin(r.skeleton);
   r.timings.thin_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
 
   t.restart();

@@ -1,9 +1,11 @@
 #include "hullpose/replay/replay.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
@@ -36,8 +38,7 @@ ReplaySummary run_replay(const ReplayOptions& options) {
       options.max_frames >= 0 ? std::min(options.max_frames, meta.frames) : meta.frames;
 
   Counters counters;
-  fusion::FusionCore core(rig, options.fusion, &counters);
-  pose::PoseEstimator estimator(options.pose);
+  fusion::PosePipeline pipeline(rig, options.fusion, options.pose, &counters);
   EstimateWriter writer(options.out);
   const std::filesystem::path timings_path =
       options.timings.empty() ? std::filesystem::path(options.out.string() + ".timings.csv")
@@ -67,15 +68,12 @@ ReplaySummary run_replay(const ReplayOptions& options) {
             << " missing in frame " << f;
       }
     }
-    const fusion::FusionResult& hull = core.process(views);
-    const pose::PoseEstimate& pose = hull.valid
-                                         ? estimator.estimate(hull.skeleton_voxels, hull.grid)
-                                         : estimator.estimate({}, hull.grid);
+    const fusion::FrameOutcome& outcome = pipeline.process(views);
+    const fusion::FusionResult& hull = *outcome.hull;
+    const pose::PoseEstimate& pose = *outcome.pose;
     record.frame = f;
-    record.valid = pose.valid;
-    record.reason = pose.reason;
-    if (!hull.valid && hull.failure == fusion::FusionFailure::kTooFewViews)
-      record.reason = 1;  // REASON_TOO_FEW_CAMERAS
+    record.valid = outcome.valid;
+    record.reason = outcome.reason;
     record.joints = pose.joints_mm;
     writer.write(record);
 
@@ -108,7 +106,7 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   summary.tree_ms = median(tree);
   summary.fit_ms = median(fit);
   summary.total_ms = median(total);
-  summary.stature_mm = estimator.last().stature_mm;
+  summary.stature_mm = pipeline.estimator().last().stature_mm;
   return summary;
 }
 
@@ -158,10 +156,7 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
           HULLPOSE_THROW("--curve-rule: expected ck3, isthmus or endvoxel, got '" << v << "'");
         }
       });
-  if (!line.parse(argc, argv)) {
-    std::fputs(line.usage().c_str(), stdout);
-    return std::nullopt;
-  }
+  if (!line.parse(argc, argv)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(!dataset.empty() && !out.empty(),
                         "--replay DIR and --out FILE are both needed");
   options.dataset = dataset;
@@ -174,12 +169,20 @@ int replay_cli(int argc, const char* const* argv) {
   const std::optional<ReplayOptions> options = parse_replay_args(argc, argv);
   if (!options) return 0;
   const ReplaySummary s = run_replay(*options);
-  std::printf(
-      "{\"frames\": %d, \"valid\": %d, \"stature_mm\": %.1f, \"median_ms\": {\"carve\": %.3f, "
-      "\"thin\": %.3f, "
-      "\"fusion\": %.3f, \"tree\": %.3f, \"fit\": %.3f, \"total\": %.3f}}\n",
-      s.frames, s.valid, s.stature_mm, s.carve_ms, s.thin_ms, s.fusion_ms, s.tree_ms, s.fit_ms,
-      s.total_ms);
+  using Json = nlohmann::ordered_json;
+  // Divided by a power of ten, so that the printed number is the short one.
+  const auto round = [](double v, double per_unit) { return std::round(v * per_unit) / per_unit; };
+  const Json summary{{"frames", s.frames},
+                     {"valid", s.valid},
+                     {"stature_mm", round(s.stature_mm, 10)},
+                     {"median_ms",
+                      {{"carve", round(s.carve_ms, 1000)},
+                       {"thin", round(s.thin_ms, 1000)},
+                       {"fusion", round(s.fusion_ms, 1000)},
+                       {"tree", round(s.tree_ms, 1000)},
+                       {"fit", round(s.fit_ms, 1000)},
+                       {"total", round(s.total_ms, 1000)}}}};
+  std::cout << summary.dump() << '\n';
   return 0;
 }
 

@@ -1,15 +1,14 @@
 #include "hullpose/fusion_host/fusion_service.hpp"
 
-#include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <climits>
 
 #include "hullpose/common/check.hpp"
-#include "hullpose/common/lcm_wire.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/msg/wire.hpp"
 
 namespace hullpose::fusion {
 HULLPOSE_LOG_CATEGORY(Service, "fusion_service")
@@ -21,40 +20,38 @@ int32_t us_after(int64_t t, int64_t utime) {
 }
 }  // namespace
 
-FusionService::FusionService(lcm::LCM& bus, const Rig& rig, FramePipeline& pipeline, const ServiceConfig& config)
-    : bus_(bus), rig_(rig), pipeline_(pipeline), config_(config),
+FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FramePipeline& pipeline,
+                             const ServiceConfig& config)
+    : bus_(bus),
+      clock_(clock),
+      rig_(rig),
+      pipeline_(pipeline),
+      config_(config),
       assembler_(rig, config.assembler, [this](const AssembledFrame& f) { on_frame(f); }) {
-  HULLPOSE_THROW_UNLESS(bus_.good(), "fusion service: the LCM handle is not usable");
   skeleton_.rig_id = rig.rig_id;
   skeleton_.subject_id = 0;
   skeleton_.num_joints = kNumJoints;
   skeleton_.joint_name.assign(kJointNames.begin(), kJointNames.end());
   skeleton_.position.assign(kNumJoints, std::vector<float>(3, 0.f));
   skeleton_.confidence.assign(kNumJoints, 0.f);
-  buffer_.resize(static_cast<size_t>(skeleton_.getEncodedSize()) + 1024);
-  subscriptions_.push_back(bus_.subscribe(config_.silhouette_channel, &FusionService::on_silhouette, this));
-  subscriptions_.push_back(bus_.subscribe(config_.trigger_channel, &FusionService::on_trigger, this));
-  for (auto* s : subscriptions_) s->setQueueCapacity(1000);
-  interval_start_us_ = monotonic_us();
+  buffer_.resize(static_cast<size_t>(skeleton_.getEncodedSize()) +
+                 1024);         // no allocation per frame
+  constexpr int kQueue = 1000;  // a burst of a whole rig's silhouettes while a frame is fused
+  subscriptions_.push_back(bus_.subscribe(
+      config_.silhouette_channel,
+      [this](std::span<const uint8_t> bytes, const std::string&) {
+        assembler_.on_bytes(bytes, clock_.realtime_utime(), clock_.monotonic_us());
+      },
+      kQueue));
+  subscriptions_.push_back(wire::subscribe(
+      bus_, config_.trigger_channel, trigger_, counters_, "malformed_trigger",
+      [this](const hullpose_msg::trigger_t& t) { assembler_.on_trigger(t, clock_.monotonic_us()); },
+      kQueue));
+  interval_start_us_ = clock_.monotonic_us();
   next_status_us_ = interval_start_us_;
 }
 
-FusionService::~FusionService() {
-  for (auto* s : subscriptions_) bus_.unsubscribe(s);
-}
-
-void FusionService::on_silhouette(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-  assembler_.on_bytes({static_cast<const uint8_t*>(rbuf->data), rbuf->data_size}, realtime_utime(), monotonic_us());
-}
-
-void FusionService::on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-  if (!wire::trigger_ok(rbuf->data, rbuf->data_size) ||
-      trigger_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) {
-    counters_.add("malformed_trigger");
-    return;
-  }
-  assembler_.on_trigger(trigger_, monotonic_us());
-}
+FusionService::~FusionService() = default;
 
 void FusionService::on_frame(const AssembledFrame& f) {
   if (last_seq_ >= 0 && f.trigger_seq > last_seq_ + 1) {
@@ -72,12 +69,25 @@ void FusionService::on_frame(const AssembledFrame& f) {
     node_done = std::max(node_done, v.node_done_utime);
   }
   estimate_ = PoseEstimate{};
+  // Latencies: this host's realtime when the frame was taken up, plus measured durations, so that
+  // received <= fused <= published holds on any clock.
+  const int64_t start_utime = clock_.realtime_utime();
+  const StageTimer t;
   if (f.status == FrameStatus::kTooFew) {
     estimate_.reason = hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
     counters_.add("skeleton_too_few_cameras");
   } else {
-    StageTimer t;
-    pipeline_.process(f, estimate_);
+    try {
+      pipeline_.process(f, estimate_);
+    } catch (const std::exception& e) {
+      // A pipeline must not throw (FramePipeline); if one does (a bug, the system), this frame
+      // is published as failed and the service goes on with the next.
+      HULLPOSE_LOG(Service, Error)
+          << "frame " << f.trigger_seq << ": pipeline failed: " << e.what();
+      counters_.add("pipeline_error");
+      estimate_ = PoseEstimate{};
+      estimate_.reason = hullpose_msg::skeleton_t::REASON_FIT_FAILED;
+    }
     interval_pipeline_us_ += t.elapsed_us();
     ++interval_frames_;
     counters_.add(estimate_.valid ? "skeleton_valid" : "skeleton_invalid");
@@ -86,36 +96,33 @@ void FusionService::on_frame(const AssembledFrame& f) {
   skeleton_.reason = estimate_.reason;
   for (int j = 0; j < kNumJoints; ++j) {
     const auto ju = static_cast<size_t>(j);
-    std::copy(estimate_.position_mm[ju].begin(), estimate_.position_mm[ju].end(), skeleton_.position[ju].begin());
+    std::copy(estimate_.position_mm[ju].begin(), estimate_.position_mm[ju].end(),
+              skeleton_.position[ju].begin());
     skeleton_.confidence[ju] = estimate_.confidence[ju];
   }
   skeleton_.capture_us = us_after(capture, f.utime);
   skeleton_.node_done_us = us_after(node_done, f.utime);
   skeleton_.received_us = us_after(f.last_received_utime, f.utime);
-  skeleton_.fused_us = us_after(estimate_.fused_utime, f.utime);
-  skeleton_.published_us = us_after(realtime_utime(), f.utime);
-  const int n = skeleton_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  HULLPOSE_ASSERT(n > 0);
-  bus_.publish(config_.skeleton_channel, buffer_.data(), static_cast<unsigned>(n));
+  const int64_t received = std::max(start_utime, f.last_received_utime);
+  skeleton_.fused_us =
+      estimate_.fused_after_us < 0 ? -1 : us_after(received + estimate_.fused_after_us, f.utime);
+  skeleton_.published_us = us_after(received + t.elapsed_us(), f.utime);
+  if (!wire::publish(bus_, config_.skeleton_channel, skeleton_, buffer_))
+    counters_.add("publish_error");
   ++published_;
 }
 
 void FusionService::step(int timeout_ms) {
-  const int fd = bus_.getFileno();
-  const int64_t until = monotonic_us() + int64_t{timeout_ms} * 1000;
-  for (;;) {
-    const int64_t now = monotonic_us();
-    pollfd p{fd, POLLIN, 0};
-    const int wait_ms = static_cast<int>(std::max<int64_t>(0, (until - now + 999) / 1000));
-    // Deadlines are checked at least every 2 ms while frames are open.
-    const int slice = assembler_.open_frames() > 0 ? std::min(wait_ms, 2) : wait_ms;
-    if (::poll(&p, 1, slice) > 0 && (p.revents & POLLIN)) {
-      bus_.handle();
+  // Deadlines are checked at least every 2 ms while frames are open.
+  const int wait_ms = assembler_.open_frames() > 0 ? std::min(timeout_ms, 2) : timeout_ms;
+  // What is pending, but not unboundedly: a flood must not keep the deadlines from being checked.
+  constexpr int kMaxPerStep = 256;
+  if (bus_.handle(wait_ms))
+    for (int i = 1; i < kMaxPerStep && bus_.handle(0); ++i) {
     }
-    assembler_.poll(monotonic_us());
-    if (monotonic_us() >= next_status_us_) publish_status(monotonic_us());
-    if (monotonic_us() >= until) return;
-  }
+  const int64_t now = clock_.monotonic_us();
+  assembler_.poll(now);
+  if (now >= next_status_us_) publish_status(now);
 }
 
 void FusionService::run(const std::function<bool()>& keep_going) {
@@ -125,12 +132,12 @@ void FusionService::run(const std::function<bool()>& keep_going) {
 
 void FusionService::flush() {
   assembler_.flush();
-  publish_status(monotonic_us());
+  publish_status(clock_.monotonic_us());
 }
 
 void FusionService::publish_status(int64_t now_us) {
   hullpose_msg::node_status_t s{};
-  s.utime = realtime_utime();
+  s.utime = clock_.realtime_utime();
   s.rig_id = rig_.rig_id;
   s.role = "fusion_host";
   s.node_id = -1;
@@ -140,16 +147,20 @@ void FusionService::publish_status(int64_t now_us) {
   const auto& c = assembler_.counters();
   const int64_t partial = c.get("fused_partial");
   const bool degraded = c.get("too_few_cameras") + c.get("no_views") > 0 || partial > 0;
-  s.state = degraded ? hullpose_msg::node_status_t::STATE_DEGRADED : hullpose_msg::node_status_t::STATE_RUNNING;
-  s.message = degraded ? "some frames fused from fewer cameras or dropped; see counters" : "all cameras";
-  const double seconds = std::max<double>(1e-3, static_cast<double>(now_us - interval_start_us_) / 1e6);
+  s.state = degraded ? hullpose_msg::node_status_t::STATE_DEGRADED
+                     : hullpose_msg::node_status_t::STATE_RUNNING;
+  s.message =
+      degraded ? "some frames fused from fewer cameras or dropped; see counters" : "all cameras";
+  const double seconds =
+      std::max<double>(1e-3, static_cast<double>(now_us - interval_start_us_) / 1e6);
   s.fps = static_cast<float>(static_cast<double>(interval_frames_) / seconds);
   s.frames_total = published_;
   s.last_trigger_seq = last_seq_;
   s.stage_name = {"pipeline"};
-  s.stage_ms = {interval_frames_ ? static_cast<float>(static_cast<double>(interval_pipeline_us_) / 1000.0 /
-                                                      static_cast<double>(interval_frames_))
-                                 : 0.f};
+  s.stage_ms = {interval_frames_
+                    ? static_cast<float>(static_cast<double>(interval_pipeline_us_) / 1000.0 /
+                                         static_cast<double>(interval_frames_))
+                    : 0.f};
   s.num_stages = 1;
   for (const Counters* counters : {&c, static_cast<const Counters*>(&counters_)}) {
     for (const auto& [name, value] : counters->snapshot()) {
@@ -158,7 +169,8 @@ void FusionService::publish_status(int64_t now_us) {
     }
   }
   s.num_counters = static_cast<int32_t>(s.counter_name.size());
-  bus_.publish(config_.status_channel, &s);
+  if (!wire::publish(bus_, config_.status_channel, s, status_buffer_))
+    counters_.add("publish_error");
   interval_frames_ = 0;
   interval_pipeline_us_ = 0;
   interval_start_us_ = now_us;

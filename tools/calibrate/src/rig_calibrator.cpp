@@ -104,17 +104,22 @@ void RigCalibrator::add_detection(const std::string& view, int camera_id, cv::Si
   out.flush();
 }
 
-CalibrationResult RigCalibrator::solve() const {
-  HULLPOSE_THROW_UNLESS(!cameras_.empty(), "no images were given");
-  // 1. Intrinsics, every camera on its own; report every camera that fails at once.
-  std::vector<int> ids;
+namespace {
+
+// solve()'s steps, in order; each hands the next what it needs.
+
+// 1. Intrinsics, every camera on its own (or only its board poses where they are known); every
+// camera that fails is reported at once.
+std::vector<IntrinsicsResult> calibrate_intrinsics(
+    const std::map<int, IntrinsicsCalibrator>& cameras, const std::map<int, CameraModel>& known_intrinsics,
+    std::vector<int>& ids) {
   std::vector<IntrinsicsResult> intrinsics;
   std::string failures;
-  for (const auto& [id, calibrator] : cameras_) {
+  for (const auto& [id, calibrator] : cameras) {
     ids.push_back(id);
     try {
-      const auto known = options_.known_intrinsics.find(id);
-      intrinsics.push_back(known != options_.known_intrinsics.end()
+      const auto known = known_intrinsics.find(id);
+      intrinsics.push_back(known != known_intrinsics.end()
                                ? calibrator.with_known(known->second)
                                : calibrator.calibrate());
     } catch (const Error& e) {
@@ -123,26 +128,37 @@ CalibrationResult RigCalibrator::solve() const {
     }
   }
   HULLPOSE_THROW_UNLESS(failures.empty(), failures);
-  const int n_cams = static_cast<int>(ids.size());
-  const int n_views = static_cast<int>(views_.size());
+  return intrinsics;
+}
 
-  // 2. Board poses per camera, chained through shared views from a camera that saw the floor.
+// Every kept board pose of every camera, with its corners.
+struct Observations {
   std::vector<PoseObservation> poses;
   std::vector<const std::vector<cv::Point2f>*> corners;  // parallel to poses
-  for (int c = 0; c < n_cams; ++c) {
-    const auto& in = intrinsics[static_cast<size_t>(c)];
+};
+
+Observations board_poses(const std::vector<IntrinsicsResult>& intrinsics,
+                         const std::map<std::string, int>& view_index) {
+  Observations o;
+  for (size_t c = 0; c < intrinsics.size(); ++c) {
+    const auto& in = intrinsics[c];
     for (size_t k = 0; k < in.kept.size(); ++k) {
-      poses.push_back(
-          {c, view_index_.at(in.kept[k].view), in.cam_from_board[k], in.view_rms_px[k]});
-      corners.push_back(&in.kept[k].corners);
+      o.poses.push_back({static_cast<int>(c), view_index.at(in.kept[k].view), in.cam_from_board[k],
+                         in.view_rms_px[k]});
+      o.corners.push_back(&in.kept[k].corners);
     }
   }
-  // The floor views in the order named; the first sets the origin and roots the linking at the
-  // camera that saw it best.
+  return o;
+}
+
+// 2. The floor views in the order named; the first sets the origin.
+std::vector<int> floor_views(const CalibrationOptions& options,
+                             const std::map<std::string, int>& view_index,
+                             const std::vector<PoseObservation>& poses) {
   std::vector<int> floors;
-  for (const auto& name : options_.floor_views) {
-    const auto it = view_index_.find(name);
-    HULLPOSE_THROW_UNLESS(it != view_index_.end(),
+  for (const auto& name : options.floor_views) {
+    const auto it = view_index.find(name);
+    HULLPOSE_THROW_UNLESS(it != view_index.end(),
                           "no capture instant named '"
                               << name << "' (a board lying on the floor sets the world frame)");
     HULLPOSE_THROW_UNLESS(
@@ -151,7 +167,11 @@ CalibrationResult RigCalibrator::solve() const {
         "the floor board (instant '" << name << "') was not found (or was rejected) in any camera");
     floors.push_back(it->second);
   }
-  const int floor = floors.front();
+  return floors;
+}
+
+// The camera that saw the first floor board best: the root of the chaining.
+int root_camera(const std::vector<PoseObservation>& poses, int floor) {
   int root = -1;
   double root_rms = 0;
   for (const auto& p : poses)
@@ -159,64 +179,80 @@ CalibrationResult RigCalibrator::solve() const {
       root = p.camera;
       root_rms = p.rms_px;
     }
-  const Linkage link = link_cameras(n_cams, n_views, poses, root);
+  return root;
+}
+
+// 3. Every camera must be chained to the root through shared views; names the ones that are not.
+void check_linked(const Linkage& link, const std::vector<int>& ids, int root) {
+  const int n_cams = static_cast<int>(ids.size());
   std::vector<int> unlinked;
   for (int c = 0; c < n_cams; ++c)
     if (!link.linked[static_cast<size_t>(c)]) unlinked.push_back(ids[static_cast<size_t>(c)]);
-  if (!unlinked.empty()) {
-    std::ostringstream msg;
-    msg << (unlinked.size() == 1 ? "camera " : "cameras ") << camera_list(unlinked)
-        << " could not be linked to the rig: ";
-    for (size_t i = 0; i < unlinked.size(); ++i) {
-      const int c = static_cast<int>(std::find(ids.begin(), ids.end(), unlinked[i]) - ids.begin());
-      msg << (i ? "; " : "") << "camera " << unlinked[i] << " shares "
-          << link.shared_views[static_cast<size_t>(c)] << " board views with other cameras";
-    }
-    msg << " (linked to the floor board's camera " << ids[static_cast<size_t>(root)] << " are: ";
-    std::vector<int> linked;
-    for (int c = 0; c < n_cams; ++c)
-      if (link.linked[static_cast<size_t>(c)]) linked.push_back(ids[static_cast<size_t>(c)]);
-    msg << camera_list(linked) << "); show a board to these cameras together with a linked one";
-    HULLPOSE_THROW(msg.str());
+  if (unlinked.empty()) return;
+  std::ostringstream msg;
+  msg << (unlinked.size() == 1 ? "camera " : "cameras ") << camera_list(unlinked)
+      << " could not be linked to the rig: ";
+  for (size_t i = 0; i < unlinked.size(); ++i) {
+    const int c = static_cast<int>(std::find(ids.begin(), ids.end(), unlinked[i]) - ids.begin());
+    msg << (i ? "; " : "") << "camera " << unlinked[i] << " shares "
+        << link.shared_views[static_cast<size_t>(c)] << " board views with other cameras";
   }
+  msg << " (linked to the floor board's camera " << ids[static_cast<size_t>(root)] << " are: ";
+  std::vector<int> linked;
+  for (int c = 0; c < n_cams; ++c)
+    if (link.linked[static_cast<size_t>(c)]) linked.push_back(ids[static_cast<size_t>(c)]);
+  msg << camera_list(linked) << "); show a board to these cameras together with a linked one";
+  HULLPOSE_THROW(msg.str());
+}
 
-  // 3. World frame: the first floor board, printed face up, z up, origin under its grid centre.
-  Eigen::Isometry3d world_from_floor = Eigen::Isometry3d::Identity();
-  world_from_floor.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  world_from_floor.translation() = Eigen::Vector3d(0, 0, options_.board_thickness_mm) -
-                                   world_from_floor.linear() * options_.board.centre_mm();
+// 4. The world frame: the first floor board, printed face up, z up, origin under its grid centre.
+Eigen::Isometry3d world_from_floor_board(const CalibrationOptions& options) {
+  Eigen::Isometry3d w = Eigen::Isometry3d::Identity();
+  w.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  w.translation() =
+      Eigen::Vector3d(0, 0, options.board_thickness_mm) - w.linear() * options.board.centre_mm();
+  return w;
+}
+
+// Another floor board starts from its chained pose laid flat on the plane (the bundle adjustment
+// keeps it there); one far off the first board's plane was not on the floor.
+Eigen::Isometry3d laid_on_floor(const CalibrationOptions& options,
+                                const Eigen::Isometry3d& world_from_floor,
+                                const Eigen::Isometry3d& chained, const std::string& name) {
+  const double tilt_deg =
+      std::acos(std::clamp(-chained.linear().col(2).z(), -1.0, 1.0)) * 180.0 / M_PI;
+  const double height_mm = chained.translation().z() - options.board_thickness_mm;
+  HULLPOSE_THROW_UNLESS(tilt_deg < kMaxFloorTiltDeg && std::abs(height_mm) < kMaxFloorHeightMm,
+                        "the board of floor view '"
+                            << name << "' is " << std::fixed << std::setprecision(0) << tilt_deg
+                            << " degrees and " << height_mm << " mm off the plane of floor view '"
+                            << options.floor_views.front()
+                            << "': is it lying printed face up on the same floor?");
+  const Eigen::Vector3d x = chained.linear().col(0);
+  Eigen::Isometry3d flat = Eigen::Isometry3d::Identity();
+  flat.linear() = Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Eigen::Vector3d::UnitZ()) *
+                  world_from_floor.linear();
+  flat.translation() = chained.translation();
+  flat.translation().z() = options.board_thickness_mm;
+  return flat;
+}
+
+// 5. The bundle adjustment's problem: every observation, the first floor board held fixed and
+// the others on the floor plane, the cameras and boards where the chaining put them.
+BundleProblem bundle_problem(const CalibrationOptions& options,
+                             const std::vector<IntrinsicsResult>& intrinsics,
+                             const Observations& obs, const std::vector<int>& floors,
+                             const Linkage& link, int n_views) {
+  const Eigen::Isometry3d world_from_floor = world_from_floor_board(options);
+  const int floor = floors.front();
   const Eigen::Isometry3d world_from_root =
       world_from_floor * link.root_from_board[static_cast<size_t>(floor)]->inverse();
-  // The other floor boards start from their chained poses laid flat on the plane (the bundle
-  // adjustment keeps them there); one far off the first board's plane was not on the floor.
-  auto laid_on_floor = [&](const Eigen::Isometry3d& chained, const std::string& name) {
-    const double tilt_deg =
-        std::acos(std::clamp(-chained.linear().col(2).z(), -1.0, 1.0)) * 180.0 / M_PI;
-    const double height_mm = chained.translation().z() - options_.board_thickness_mm;
-    HULLPOSE_THROW_UNLESS(tilt_deg < kMaxFloorTiltDeg && std::abs(height_mm) < kMaxFloorHeightMm,
-                          "the board of floor view '"
-                              << name << "' is " << std::fixed << std::setprecision(0) << tilt_deg
-                              << " degrees and " << height_mm << " mm off the plane of floor view '"
-                              << options_.floor_views.front()
-                              << "': is it lying printed face up on the same floor?");
-    const Eigen::Vector3d x = chained.linear().col(0);
-    Eigen::Isometry3d flat = Eigen::Isometry3d::Identity();
-    flat.linear() = Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Eigen::Vector3d::UnitZ()) *
-                    world_from_floor.linear();
-    flat.translation() = chained.translation();
-    flat.translation().z() = options_.board_thickness_mm;
-    return flat;
-  };
-
-  // 4. Bundle adjustment over every observation, the first floor board held fixed and the others
-  // on the floor plane.
   BundleProblem problem;
-  for (int i = 0; i < options_.board.corner_count(); ++i)
-    problem.board_points.push_back(options_.board.corner_mm(i));
-  for (int c = 0; c < n_cams; ++c) {
-    CameraModel cam = intrinsics[static_cast<size_t>(c)].camera;
-    const Eigen::Isometry3d cam_from_world =
-        (world_from_root * link.root_from_cam[static_cast<size_t>(c)]).inverse();
+  for (int i = 0; i < options.board.corner_count(); ++i)
+    problem.board_points.push_back(options.board.corner_mm(i));
+  for (size_t c = 0; c < intrinsics.size(); ++c) {
+    CameraModel cam = intrinsics[c].camera;
+    const Eigen::Isometry3d cam_from_world = (world_from_root * link.root_from_cam[c]).inverse();
     cam.R = cam_from_world.linear();
     cam.t = cam_from_world.translation();
     problem.cameras.push_back(cam);
@@ -231,22 +267,72 @@ CalibrationResult RigCalibrator::solve() const {
       problem.world_from_board.push_back(world_from_floor);
       problem.board_motion.push_back(BoardMotion::kFixed);
     } else if (floor_rank < static_cast<long>(floors.size())) {
-      problem.world_from_board.push_back(laid_on_floor(
-          world_from_root * *b, options_.floor_views[static_cast<size_t>(floor_rank)]));
+      problem.world_from_board.push_back(
+          laid_on_floor(options, world_from_floor, world_from_root * *b,
+                        options.floor_views[static_cast<size_t>(floor_rank)]));
       problem.board_motion.push_back(BoardMotion::kOnFloor);
     } else {
       problem.world_from_board.push_back(world_from_root * *b);
       problem.board_motion.push_back(BoardMotion::kFree);
     }
   }
-  for (size_t k = 0; k < poses.size(); ++k) {
-    BoardObservation obs;
-    obs.camera = poses[k].camera;
-    obs.board = board_of_view[static_cast<size_t>(poses[k].view)];
-    HULLPOSE_ASSERT(obs.board >= 0);
-    for (const auto& p : *corners[k]) obs.pixels.emplace_back(p.x, p.y);
-    problem.observations.push_back(std::move(obs));
+  for (size_t k = 0; k < obs.poses.size(); ++k) {
+    BoardObservation o;
+    o.camera = obs.poses[k].camera;
+    o.board = board_of_view[static_cast<size_t>(obs.poses[k].view)];
+    HULLPOSE_ASSERT(o.board >= 0);
+    for (const auto& p : *obs.corners[k]) o.pixels.emplace_back(p.x, p.y);
+    problem.observations.push_back(std::move(o));
   }
+  return problem;
+}
+
+// 6. The adjusted rig must fit: overall, and each camera about as well as it fits its boards
+// alone (much worse in the rig means the cameras disagree about the boards: wrong board size
+// for some, a camera moved mid-capture).
+void check_consistent(const CalibrationOptions& options,
+                      const std::vector<IntrinsicsResult>& intrinsics, const BundleResult& adjusted,
+                      const std::vector<int>& ids) {
+  HULLPOSE_THROW_UNLESS(adjusted.final_rms_px <= options.max_rms_px,
+                        "the calibrated rig is inconsistent: RMS reprojection error "
+                            << adjusted.final_rms_px << " px after bundle adjustment exceeds "
+                            << options.max_rms_px
+                            << " px (wrong board size, moving cameras, or unsynchronised images?)");
+  std::vector<std::string> inconsistent;
+  for (size_t c = 0; c < intrinsics.size(); ++c) {
+    const double alone = intrinsics[c].rms_px;
+    const double in_rig = adjusted.camera_rms_px[c];
+    if (in_rig > kMaxRigToIntrinsicRms * alone + kRigRmsSlackPx) {
+      std::ostringstream s;
+      s << "camera " << ids[c] << " (" << std::setprecision(3) << in_rig << " px in the rig, "
+        << alone << " px alone)";
+      inconsistent.push_back(s.str());
+    }
+  }
+  if (inconsistent.empty()) return;
+  std::string list;
+  for (const auto& s : inconsistent) list += (list.empty() ? "" : ", ") + s;
+  HULLPOSE_THROW("the calibrated rig is inconsistent: "
+                 << list << " (wrong board size, a camera moved, or unsynchronised images?)");
+}
+
+}  // namespace
+
+CalibrationResult RigCalibrator::solve() const {
+  HULLPOSE_THROW_UNLESS(!cameras_.empty(), "no images were given");
+  std::vector<int> ids;
+  const std::vector<IntrinsicsResult> intrinsics = calibrate_intrinsics(cameras_, options_.known_intrinsics, ids);
+  const int n_cams = static_cast<int>(ids.size());
+  const int n_views = static_cast<int>(views_.size());
+
+  const Observations obs = board_poses(intrinsics, view_index_);
+  const std::vector<int> floors = floor_views(options_, view_index_, obs.poses);
+  const int root = root_camera(obs.poses, floors.front());
+  const Linkage link = link_cameras(n_cams, n_views, obs.poses, root);
+  check_linked(link, ids, root);
+
+  BundleProblem problem =
+      bundle_problem(options_, intrinsics, obs, floors, link, n_views);  // adjusted in place
   BundleOptions ba;
   ba.refine_intrinsics = options_.refine_intrinsics && options_.known_intrinsics.empty();
   ba.refine_k3 = options_.intrinsics.estimate_k3;
@@ -254,31 +340,7 @@ CalibrationResult RigCalibrator::solve() const {
   HULLPOSE_LOG(Calibrate, Info) << "bundle adjustment: rms " << adjusted.initial_rms_px << " -> "
                                 << adjusted.final_rms_px << " px in " << adjusted.iterations
                                 << " iterations";
-  HULLPOSE_THROW_UNLESS(adjusted.final_rms_px <= options_.max_rms_px,
-                        "the calibrated rig is inconsistent: RMS reprojection error "
-                            << adjusted.final_rms_px << " px after bundle adjustment exceeds "
-                            << options_.max_rms_px
-                            << " px (wrong board size, moving cameras, or unsynchronised images?)");
-
-  // Each camera alone fits its boards to its intrinsic RMS; much worse in the rig means the
-  // cameras disagree about the boards (wrong board size for some, a camera moved mid-capture).
-  std::vector<std::string> inconsistent;
-  for (int c = 0; c < n_cams; ++c) {
-    const double alone = intrinsics[static_cast<size_t>(c)].rms_px;
-    const double in_rig = adjusted.camera_rms_px[static_cast<size_t>(c)];
-    if (in_rig > kMaxRigToIntrinsicRms * alone + kRigRmsSlackPx) {
-      std::ostringstream s;
-      s << "camera " << ids[static_cast<size_t>(c)] << " (" << std::setprecision(3) << in_rig
-        << " px in the rig, " << alone << " px alone)";
-      inconsistent.push_back(s.str());
-    }
-  }
-  if (!inconsistent.empty()) {
-    std::string list;
-    for (const auto& s : inconsistent) list += (list.empty() ? "" : ", ") + s;
-    HULLPOSE_THROW("the calibrated rig is inconsistent: "
-                   << list << " (wrong board size, a camera moved, or unsynchronised images?)");
-  }
+  check_consistent(options_, intrinsics, adjusted, ids);
 
   CalibrationResult result;
   result.floor_boards = static_cast<int>(floors.size());

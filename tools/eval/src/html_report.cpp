@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "format.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/eval/report.hpp"
+#include "hullpose/msg/reasons.hpp"
 
 namespace hullpose::eval {
 namespace {
@@ -370,36 +372,35 @@ std::string joint_table(const EvalResult& r) {
 
 // The per-frame numbers for the pointer readout, as JSON arrays indexed like per_frame.
 std::string frames_json(const EvalResult& r) {
-  auto num = [](double v) { return std::isfinite(v) ? fmt(v, 1) : std::string("null"); };
-  std::ostringstream j;
-  j << "{";
-  auto array = [&](const char* key, auto value, bool last = false) {
-    j << '"' << key << "\":[";
-    for (size_t i = 0; i < r.per_frame.size(); ++i) j << (i ? "," : "") << value(r.per_frame[i]);
-    j << ']' << (last ? "" : ",");
+  using Json = nlohmann::ordered_json;
+  const auto num = [](double v) {
+    return std::isfinite(v) ? Json(std::round(v * 10.0) / 10.0) : Json(nullptr);
   };
-  array("frame", [](const FrameResult& f) { return std::to_string(f.frame); });
-  array("status", [](const FrameResult& f) {
+  const auto status = [](const FrameResult& f) -> std::string {
     if (f.status == FrameStatus::Scored)
-      return std::string(f.lr_arms_correct && f.lr_legs_correct ? "\"scored\""
-                         : !f.lr_arms_correct && !f.lr_legs_correct
-                             ? "\"scored, arms and legs swapped\""
-                         : !f.lr_arms_correct ? "\"scored, arms swapped\""
-                                              : "\"scored, legs swapped\"");
-    if (f.status == FrameStatus::Missing) return std::string("\"missing from the estimate\"");
-    return "\"invalid (" + reason_name(f.reason) + ")\"";
-  });
-  array("all", [&](const FrameResult& f) { return num(f.mean_mm); });
-  array("hf", [&](const FrameResult& f) { return num(f.hands_feet_mm); });
-  for (int a = 0; a < 3; ++a) {
-    const std::string abs_key = std::string("abs") + static_cast<char>('x' + a);
-    const std::string bias_key = std::string("bias") + static_cast<char>('x' + a);
-    array(abs_key.c_str(), [&](const FrameResult& f) { return num(f.axis_abs_mm[a]); });
-    array(
-        bias_key.c_str(), [&](const FrameResult& f) { return num(f.axis_bias_mm[a]); }, a == 2);
+      return f.lr_arms_correct && f.lr_legs_correct     ? "scored"
+             : !f.lr_arms_correct && !f.lr_legs_correct ? "scored, arms and legs swapped"
+             : !f.lr_arms_correct                       ? "scored, arms swapped"
+                                                        : "scored, legs swapped";
+    if (f.status == FrameStatus::Missing) return "missing from the estimate";
+    return "invalid (" + msg::reason_name(f.reason) + ")";
+  };
+  Json j;
+  for (const char* key :
+       {"frame", "status", "all", "hf", "absx", "biasx", "absy", "biasy", "absz", "biasz"})
+    j[key] = Json::array();
+  for (const FrameResult& f : r.per_frame) {
+    j["frame"].push_back(f.frame);
+    j["status"].push_back(status(f));
+    j["all"].push_back(num(f.mean_mm));
+    j["hf"].push_back(num(f.hands_feet_mm));
+    for (int a = 0; a < 3; ++a) {
+      const char axis = static_cast<char>('x' + a);
+      j[std::string("abs") + axis].push_back(num(f.axis_abs_mm[a]));
+      j[std::string("bias") + axis].push_back(num(f.axis_bias_mm[a]));
+    }
   }
-  j << "}";
-  return j.str();
+  return j.dump();
 }
 
 constexpr const char* kStyle = R"CSS(
@@ -514,7 +515,7 @@ fs::path write_html_report(const fs::path& dir, const EvalResult& r, const Repor
 
   std::string reasons;
   for (const auto& [code, count] : r.invalid_reasons)
-    reasons += (reasons.empty() ? "" : ", ") + reason_name(code) + " " + std::to_string(count);
+    reasons += (reasons.empty() ? "" : ", ") + msg::reason_name(code) + " " + std::to_string(count);
 
   out << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>hullpose-eval: "
       << escape(source.motion.empty() ? source.dataset : source.motion) << "</title><style>"

@@ -94,26 +94,6 @@ const char* to_string(FrameStatus status) {
   return "?";
 }
 
-std::string reason_name(int reason) {
-  using S = hullpose_msg::skeleton_t;
-  switch (reason) {
-    case S::REASON_OK:
-      return "ok";
-    case S::REASON_TOO_FEW_CAMERAS:
-      return "too_few_cameras";
-    case S::REASON_EMPTY_HULL:
-      return "empty_hull";
-    case S::REASON_INVALID_TREE:
-      return "invalid_tree";
-    case S::REASON_POSE_JUMP:
-      return "pose_jump";
-    case S::REASON_FIT_FAILED:
-      return "fit_failed";
-    default:
-      return "reason_" + std::to_string(reason);
-  }
-}
-
 double stature_from_joints(const JointPositions& joints) {
   double num = 0, den = 0;
   for (const Bone& bone : kBones) {

@@ -2,106 +2,82 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "format.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/eval/report.hpp"
+#include "hullpose/msg/reasons.hpp"
 
 namespace hullpose::eval {
 namespace {
 
-std::string json_num(double v) {
-  return fixed(v, 3, "null");
+using Json = nlohmann::ordered_json;
+
+// Three decimals, as the table prints them; null when not finite (nothing to score).
+Json num(double v) {
+  return std::isfinite(v) ? Json(std::round(v * 1000.0) / 1000.0) : Json(nullptr);
 }
 
-// Writes "key":value pairs separated by commas.
-class JsonObject {
- public:
-  explicit JsonObject(std::ostream& out) : out_(out) { out_ << '{'; }
-  ~JsonObject() { out_ << '}'; }
-  JsonObject(const JsonObject&) = delete;
-  JsonObject& operator=(const JsonObject&) = delete;
-  std::ostream& key(std::string_view k) {
-    out_ << (first_ ? "" : ",") << '"' << k << "\":";
-    first_ = false;
-    return out_;
-  }
-  void number(std::string_view k, double v) { key(k) << json_num(v); }
-  void integer(std::string_view k, long long v) { key(k) << v; }
-  void vec3(std::string_view k, const Eigen::Vector3d& v) {
-    key(k) << "{\"x\":" << json_num(v.x()) << ",\"y\":" << json_num(v.y())
-           << ",\"z\":" << json_num(v.z()) << '}';
-  }
+void box_fields(Json& o, const std::string& prefix, const BoxStats& b) {
+  o[prefix + "_std_mm"] = num(b.std);
+  o[prefix + "_median_mm"] = num(b.median);
+  o[prefix + "_max_mm"] = num(b.max);
+}
 
- private:
-  std::ostream& out_;
-  bool first_ = true;
-};
-
-void box_fields(JsonObject& o, const std::string& prefix, const BoxStats& b) {
-  o.number(prefix + "_std_mm", b.std);
-  o.number(prefix + "_median_mm", b.median);
-  o.number(prefix + "_max_mm", b.max);
+Json vec3(const Eigen::Vector3d& v) {
+  return Json{{"x", num(v.x())}, {"y", num(v.y())}, {"z", num(v.z())}};
 }
 
 }  // namespace
 
 void write_json(std::ostream& out, const EvalResult& r) {
-  {
-    JsonObject o(out);
-    o.integer("frames", r.frames);
-    o.integer("scored_frames", r.scored_frames);
-    o.integer("invalid_frames", r.invalid_frames);
-    o.integer("missing_frames", r.missing_frames);
-    {
-      JsonObject reasons(o.key("invalid_reasons"));
-      for (const auto& [code, count] : r.invalid_reasons) reasons.integer(reason_name(code), count);
-    }
-    o.number("valid_pct", r.valid_pct);
-    o.number("mpjpe_mm", r.all_joints.mean);
-    box_fields(o, "mpjpe", r.all_joints);
-    o.number("extremity_mpjpe_mm", r.extremities.mean);
-    box_fields(o, "extremity", r.extremities);
-    o.number("hands_feet_mpjpe_mm", r.hands_feet.mean);
-    box_fields(o, "hands_feet", r.hands_feet);
-    o.number("frame_mpjpe_std_mm", r.frame_mean.std);
-    o.number("frame_mpjpe_median_mm", r.frame_mean.median);
-    o.number("frame_mpjpe_max_mm", r.frame_mean.max);
-    if (r.scored_frames > 0)
-      o.integer("worst_frame", r.worst_frame);
-    else
-      o.key("worst_frame") << "null";
-    o.number("frame_hands_feet_std_mm", r.frame_hands_feet.std);
-    o.number("frame_hands_feet_median_mm", r.frame_hands_feet.median);
-    o.number("pck50_pct", r.pck50_pct);
-    o.number("pck100_pct", r.pck100_pct);
-    o.number("pck50_valid_pct", r.pck50_valid_pct);
-    o.number("pck100_valid_pct", r.pck100_valid_pct);
-    o.number("lr_correct_pct", r.lr_correct_pct);
-    o.number("lr_arms_correct_pct", r.lr_arms_correct_pct);
-    o.number("lr_legs_correct_pct", r.lr_legs_correct_pct);
-    o.number("stature_mm", r.stature_meta_mm);
-    o.number("stature_gt_mm", r.stature_gt_mm);
-    o.number("stature_est_mm", r.stature_est_mm);
-    o.number("stature_est_std_mm", r.stature_est_std_mm);
-    o.number("stature_error_mm", r.stature_error_mm);
-    o.number("stature_error_meta_mm", r.stature_error_meta_mm);
-    o.vec3("axis_abs_mm", r.axis_abs_mm);
-    o.vec3("axis_bias_mm", r.axis_bias_mm);
-    JsonObject joints(o.key("per_joint"));
-    for (size_t j = 0; j < kNumJoints; ++j) {
-      const BoxStats& b = r.per_joint[j];
-      JsonObject jo(joints.key(kJointNames[j]));
-      jo.number("mean_mm", b.mean);
-      jo.number("std_mm", b.std);
-      jo.number("median_mm", b.median);
-      jo.number("q1_mm", b.q1);
-      jo.number("q3_mm", b.q3);
-      jo.number("max_mm", b.max);
-      jo.integer("outliers", static_cast<long long>(b.outliers.size()));
-    }
+  Json o;
+  o["frames"] = r.frames;
+  o["scored_frames"] = r.scored_frames;
+  o["invalid_frames"] = r.invalid_frames;
+  o["missing_frames"] = r.missing_frames;
+  Json reasons = Json::object();
+  for (const auto& [code, count] : r.invalid_reasons) reasons[msg::reason_name(code)] = count;
+  o["invalid_reasons"] = reasons;
+  o["valid_pct"] = num(r.valid_pct);
+  o["mpjpe_mm"] = num(r.all_joints.mean);
+  box_fields(o, "mpjpe", r.all_joints);
+  o["extremity_mpjpe_mm"] = num(r.extremities.mean);
+  box_fields(o, "extremity", r.extremities);
+  o["hands_feet_mpjpe_mm"] = num(r.hands_feet.mean);
+  box_fields(o, "hands_feet", r.hands_feet);
+  o["frame_mpjpe_std_mm"] = num(r.frame_mean.std);
+  o["frame_mpjpe_median_mm"] = num(r.frame_mean.median);
+  o["frame_mpjpe_max_mm"] = num(r.frame_mean.max);
+  o["worst_frame"] = r.scored_frames > 0 ? Json(r.worst_frame) : Json(nullptr);
+  o["frame_hands_feet_std_mm"] = num(r.frame_hands_feet.std);
+  o["frame_hands_feet_median_mm"] = num(r.frame_hands_feet.median);
+  o["pck50_pct"] = num(r.pck50_pct);
+  o["pck100_pct"] = num(r.pck100_pct);
+  o["pck50_valid_pct"] = num(r.pck50_valid_pct);
+  o["pck100_valid_pct"] = num(r.pck100_valid_pct);
+  o["lr_correct_pct"] = num(r.lr_correct_pct);
+  o["lr_arms_correct_pct"] = num(r.lr_arms_correct_pct);
+  o["lr_legs_correct_pct"] = num(r.lr_legs_correct_pct);
+  o["stature_mm"] = num(r.stature_meta_mm);
+  o["stature_gt_mm"] = num(r.stature_gt_mm);
+  o["stature_est_mm"] = num(r.stature_est_mm);
+  o["stature_est_std_mm"] = num(r.stature_est_std_mm);
+  o["stature_error_mm"] = num(r.stature_error_mm);
+  o["stature_error_meta_mm"] = num(r.stature_error_meta_mm);
+  o["axis_abs_mm"] = vec3(r.axis_abs_mm);
+  o["axis_bias_mm"] = vec3(r.axis_bias_mm);
+  Json joints = Json::object();
+  for (size_t j = 0; j < kNumJoints; ++j) {
+    const BoxStats& b = r.per_joint[j];
+    joints[kJointNames[j]] =
+        Json{{"mean_mm", num(b.mean)},       {"std_mm", num(b.std)}, {"median_mm", num(b.median)},
+             {"q1_mm", num(b.q1)},           {"q3_mm", num(b.q3)},   {"max_mm", num(b.max)},
+             {"outliers", b.outliers.size()}};
   }
-  out << '\n';
+  o["per_joint"] = joints;
+  out << o.dump() << '\n';
 }
 
 void write_table(std::ostream& out, const EvalResult& r, const ReportSource& source) {
@@ -124,7 +100,7 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
   row("scored (estimate valid)", std::to_string(r.scored_frames) + "   (" + pc(r.valid_pct) + ")");
   std::string invalid = std::to_string(r.invalid_frames);
   for (const auto& [code, count] : r.invalid_reasons)
-    invalid += "   " + reason_name(code) + "=" + std::to_string(count);
+    invalid += "   " + msg::reason_name(code) + "=" + std::to_string(count);
   row("invalid (estimate valid=0)", invalid);
   row("missing from the estimate file", std::to_string(r.missing_frames));
 
@@ -175,7 +151,7 @@ void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r)
          "mm\n";
   for (const FrameResult& f : r.per_frame) {
     out << f.frame << ',' << to_string(f.status) << ','
-        << (f.status == FrameStatus::Missing ? "" : reason_name(f.reason));
+        << (f.status == FrameStatus::Missing ? "" : msg::reason_name(f.reason));
     const bool scored = f.status == FrameStatus::Scored;
     for (double v :
          {f.mean_mm, f.extremity_mm, f.hands_feet_mm, f.axis_abs_mm.x(), f.axis_abs_mm.y(),

@@ -83,10 +83,7 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--volume-max-mm", max_mm)
       .option("--volume-size-mm", size_mm)
       .option("--max-height-mm", o.max_height_mm);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(projections.empty() != opencv.empty(),
                         "give one of --projections or --opencv (see --help)");
   HULLPOSE_THROW_UNLESS(!rig_out.empty(), "--out RIG.yaml is needed");
@@ -154,10 +151,7 @@ int silhouettes_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--fps", o.fps)
       .option("--threshold", o.threshold)
       .option("--motion", o.motion);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(!rig.empty() && !o.pattern.empty() && !dir.empty(),
                         "--rig, --pattern and --out are all needed (see --help)");
   o.rig = rig;
@@ -178,10 +172,7 @@ int recording_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--frames", o.frames)
       .option("--fps", o.fps)
       .flag("--no-rgb", no_rgb);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(!dir.empty(), "--out DIR is needed");
   o.out = dir;
   o.rgb = !no_rgb;
@@ -193,22 +184,16 @@ int recording_command(int argc, const char* const* argv, std::ostream& out) {
 
 }  // namespace
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  try {
-    const std::string_view command = argc > 1 ? argv[1] : "";
-    if (command == "rig") return rig_command(argc - 1, argv + 1, out);
-    if (command == "silhouettes") return silhouettes_command(argc - 1, argv + 1, out);
-    if (command == "recording") return recording_command(argc - 1, argv + 1, out);
-    if (command == "-h" || command == "--help") {
-      out << kUsage;
-      return 0;
-    }
-    HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command
-                                                                               << "' (see --help)");
-  } catch (const Error& e) {
-    err << "hullpose-import: error: " << e.what() << "\n";
-    return 2;
+int run_cli(int argc, const char* const* argv, std::ostream& out) {
+  const std::string_view command = argc > 1 ? argv[1] : "";
+  if (command == "rig") return rig_command(argc - 1, argv + 1, out);
+  if (command == "silhouettes") return silhouettes_command(argc - 1, argv + 1, out);
+  if (command == "recording") return recording_command(argc - 1, argv + 1, out);
+  if (command == "-h" || command == "--help") {
+    out << kUsage;
+    return 0;
   }
+  HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command << "' (see --help)");
 }
 
 }  // namespace hullpose::import

@@ -22,7 +22,8 @@ RecordingImport import_recordings(const RecordingImportOptions& o) {
     camera_node::NodeConfig config = camera_node::load_node_config(file);
     config.lcm.url = "memq://";      // nothing leaves the process
     config.trigger.enabled = false;  // frame k of the recording is instant k
-    camera_node::CameraNode node(std::move(config));
+    const std::unique_ptr<bus::Bus> bus = camera_node::open_node_bus(config);
+    camera_node::CameraNode node(std::move(config), *bus);
     if (!rig) {
       rig = node.rig();
       save_rig(*rig, paths.rig());

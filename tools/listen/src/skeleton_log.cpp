@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <nlohmann/json.hpp>
 
 #include "hullpose/common/joints.hpp"
+#include "hullpose/msg/reasons.hpp"
 
 namespace hullpose::listen {
 
@@ -21,7 +22,8 @@ void LatencySeries::add(int32_t us) {
 double LatencySeries::percentile_ms(double q) const {
   if (samples_.empty()) return 0;
   std::vector<int32_t> v = samples_;
-  const auto k = static_cast<size_t>(std::min<double>(static_cast<double>(v.size() - 1), std::floor(q * static_cast<double>(v.size()))));
+  const auto k = static_cast<size_t>(std::min<double>(
+      static_cast<double>(v.size() - 1), std::floor(q * static_cast<double>(v.size()))));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k] / 1000.0;
 }
@@ -33,11 +35,13 @@ double LatencySeries::max_ms() const {
 void SkeletonStats::add(const hullpose_msg::skeleton_t& s) {
   ++received_;
   if (s.valid) ++valid_;
-  reasons_[static_cast<size_t>(std::clamp<int>(s.reason, 0, static_cast<int>(reasons_.size()) - 1))]++;
+  reasons_[static_cast<size_t>(
+      std::clamp<int>(s.reason, 0, static_cast<int>(reasons_.size()) - 1))]++;
   if (last_seq_ >= 0 && s.trigger_seq > last_seq_ + 1) missing_ += s.trigger_seq - last_seq_ - 1;
   if (last_seq_ >= 0 && s.trigger_seq <= last_seq_) ++out_of_order_;
   last_seq_ = std::max(last_seq_, s.trigger_seq);
-  const int32_t values[] = {s.capture_us, s.node_done_us, s.received_us, s.fused_us, s.published_us};
+  const int32_t values[] = {s.capture_us, s.node_done_us, s.received_us, s.fused_us,
+                            s.published_us};
   // Only frames that went through the pipeline have the whole breakdown.
   if (s.num_cameras_used == 0) return;
   for (size_t i = 0; i < kStages.size(); ++i)
@@ -45,48 +49,65 @@ void SkeletonStats::add(const hullpose_msg::skeleton_t& s) {
 }
 
 std::string SkeletonStats::summary_json() const {
-  std::ostringstream o;
-  o.precision(4);
-  o << "{\"skeletons\": " << received_ << ", \"valid\": " << valid_ << ", \"missing_sequences\": " << missing_
-    << ", \"out_of_order\": " << out_of_order_ << ", \"reasons\": {";
-  static const char* names[] = {"ok", "too_few_cameras", "empty_hull", "invalid_tree", "pose_jump", "fit_failed", "other6", "other7"};
-  for (size_t i = 0; i < reasons_.size(); ++i) o << (i ? ", " : "") << "\"" << names[i] << "\": " << reasons_[i];
-  o << "}, \"latency_ms\": {";
+  using Json = nlohmann::ordered_json;
+  const auto ms = [](double v) {
+    return std::round(v * 1e4) / 1e4;
+  };  // 0.1 us: the data's resolution
+  Json reasons = Json::object();
+  for (size_t i = 0; i < reasons_.size(); ++i)
+    reasons[msg::reason_name(static_cast<int>(i))] = reasons_[i];
+  Json latency = Json::object();
   for (size_t i = 0; i < kStages.size(); ++i) {
     const LatencySeries& l = stages_[i];
-    o << (i ? ", " : "") << "\"" << kStages[i] << "\": {\"p50\": " << l.percentile_ms(0.5) << ", \"p99\": " << l.percentile_ms(0.99)
-      << ", \"max\": " << l.max_ms() << ", \"n\": " << l.count() << "}";
+    latency[kStages[i]] = Json{{"p50", ms(l.percentile_ms(0.5))},
+                               {"p99", ms(l.percentile_ms(0.99))},
+                               {"max", ms(l.max_ms())},
+                               {"n", l.count()}};
   }
-  o << "}}";
-  return o.str();
+  const Json o{
+      {"skeletons", received_},        {"valid", valid_},    {"missing_sequences", missing_},
+      {"out_of_order", out_of_order_}, {"reasons", reasons}, {"latency_ms", latency}};
+  return o.dump();
 }
 
 void write_csv_header(std::ostream& out) {
-  out << "trigger_seq,utime,valid,reason,num_cameras,cameras_mask,capture_us,node_done_us,received_us,fused_us,published_us";
+  out << "trigger_seq,utime,valid,reason,num_cameras,cameras_mask,capture_us,node_done_us,received_"
+         "us,fused_us,published_us";
   for (auto name : kJointNames) out << ',' << name << "_x," << name << "_y," << name << "_z";
   out << '\n';
 }
 
 void write_csv(std::ostream& out, const hullpose_msg::skeleton_t& s) {
-  out << s.trigger_seq << ',' << s.utime << ',' << int{s.valid} << ',' << int{s.reason} << ',' << s.num_cameras_used << ','
-      << s.cameras_used_mask << ',' << s.capture_us << ',' << s.node_done_us << ',' << s.received_us << ',' << s.fused_us << ','
-      << s.published_us;
+  out << s.trigger_seq << ',' << s.utime << ',' << int{s.valid} << ',' << int{s.reason} << ','
+      << s.num_cameras_used << ',' << s.cameras_used_mask << ',' << s.capture_us << ','
+      << s.node_done_us << ',' << s.received_us << ',' << s.fused_us << ',' << s.published_us;
   for (int j = 0; j < kNumJoints; ++j)
     for (int k = 0; k < 3; ++k)
-      out << ',' << (j < s.num_joints ? s.position[static_cast<size_t>(j)][static_cast<size_t>(k)] : 0.f);
+      out << ','
+          << (j < s.num_joints ? s.position[static_cast<size_t>(j)][static_cast<size_t>(k)] : 0.f);
   out << '\n';
 }
 
 void write_jsonl(std::ostream& out, const hullpose_msg::skeleton_t& s) {
-  out << "{\"trigger_seq\": " << s.trigger_seq << ", \"utime\": " << s.utime << ", \"valid\": " << (s.valid ? "true" : "false")
-      << ", \"reason\": " << int{s.reason} << ", \"cameras\": " << s.num_cameras_used << ", \"latency_us\": {\"capture\": "
-      << s.capture_us << ", \"node_done\": " << s.node_done_us << ", \"received\": " << s.received_us << ", \"fused\": "
-      << s.fused_us << ", \"published\": " << s.published_us << "}, \"joints\": {";
+  using Json = nlohmann::ordered_json;
+  Json joints = Json::object();
   for (int j = 0; j < s.num_joints; ++j) {
     const auto& p = s.position[static_cast<size_t>(j)];
-    out << (j ? ", " : "") << "\"" << (j < kNumJoints ? kJointNames[static_cast<size_t>(j)] : "?") << "\": [" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+    joints[j < kNumJoints ? kJointNames[static_cast<size_t>(j)] : "?"] = {p[0], p[1], p[2]};
   }
-  out << "}}\n";
+  const Json o{{"trigger_seq", s.trigger_seq},
+               {"utime", s.utime},
+               {"valid", s.valid},
+               {"reason", s.reason},
+               {"cameras", s.num_cameras_used},
+               {"latency_us",
+                {{"capture", s.capture_us},
+                 {"node_done", s.node_done_us},
+                 {"received", s.received_us},
+                 {"fused", s.fused_us},
+                 {"published", s.published_us}}},
+               {"joints", joints}};
+  out << o.dump() << '\n';
 }
 
 void write_estimate_header(std::ostream& out) {
@@ -99,7 +120,8 @@ void write_estimate(std::ostream& out, const hullpose_msg::skeleton_t& s, int64_
   out << s.trigger_seq - frame_offset << ',' << int{s.valid} << ',' << int{s.reason};
   for (int j = 0; j < kNumJoints; ++j)
     for (int k = 0; k < 3; ++k)
-      out << ',' << (j < s.num_joints ? s.position[static_cast<size_t>(j)][static_cast<size_t>(k)] : 0.f);
+      out << ','
+          << (j < s.num_joints ? s.position[static_cast<size_t>(j)][static_cast<size_t>(k)] : 0.f);
   out << '\n';
 }
 

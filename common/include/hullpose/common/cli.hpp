@@ -1,10 +1,12 @@
 #pragma once
-// The command line of every hullpose program: "--name VALUE" options bound to typed fields, and
-// "--name" switches. Bad input — an unknown option, a missing value, a value that is not a whole
-// number of the field's type — throws hullpose::Error naming the option (docs/errors.md), so each
-// main() only declares its options and prints what it catches.
+// The one command-line parser of every hullpose program: "--name VALUE" options bound to typed
+// fields, and "--name" switches. Bad input — an unknown option, a missing value, a value that is
+// not a whole number of the field's type — throws hullpose::Error naming the option
+// (docs/errors.md), which run_tool (common/tool.hpp) turns into exit 2; -h/--help prints the
+// usage, and parse() returns false so that the program exits 0.
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,9 +25,12 @@ class CommandLine {
   // For values that need their own parsing (lists, presets); the handler throws hullpose::Error.
   CommandLine& option(std::string name, std::function<void(const std::string&)> handle);
   CommandLine& flag(std::string name, bool& out);
+  CommandLine& flag(std::string name, std::function<void()> on);
 
-  // False when -h or --help was given: the caller prints usage() to stdout and exits 0.
+  // False when -h or --help was given, after printing usage() to `help_out` (stdout): the caller
+  // exits 0.
   [[nodiscard]] bool parse(int argc, const char* const* argv) const;
+  [[nodiscard]] bool parse(int argc, const char* const* argv, std::ostream& help_out) const;
   const std::string& usage() const { return usage_; }
 
  private:

@@ -4,37 +4,39 @@
 //
 // Lifecycle:
 //
-//   CameraNode node(load_node_config(file));   // validates everything; opens nothing
+//   auto bus = open_node_bus(config);            // the process's one bus (lcm.url)
+//   CameraNode node(config, *bus);             // validates everything; opens nothing
 //   node.start();                              // opens the camera, learns the background, then
 //                                              // opens the trigger input (config trigger:)
-//   node.run(stop_flag);                       // capture -> trigger stamp -> process, until stopped
-//   node.stop();
+//   node.run(stop_flag);                       // capture -> trigger stamp -> process, until
+//   stopped node.stop();
 //
 // The trigger layer (camera_node/trigger, through TriggerStage) sits behind FrameTrigger: a camera
 // that exposes on the trigger line has each frame stamped with its edge (stamp()); a simulated
 // sensor (FrameSource::triggerable) waits for the next trigger instant (next_instant()) and
 // exposes that instant's frame, exactly one per edge; a free-running camera (trigger.camera:
-// free_running) keeps its last few frames and publishes the one nearest each edge (offer()). Without a trigger the node is free-running:
-// trigger_seq = frame.sequence, trigger utime = frame.capture_utime. A frame without a trigger
-// instant is dropped, counted "no_trigger".
+// free_running) keeps its last few frames and publishes the one nearest each edge (offer()).
+// Without a trigger the node is free-running: trigger_seq = frame.sequence, trigger utime =
+// frame.capture_utime. A frame without a trigger instant is dropped, counted "no_trigger".
 //
-// One step at a time, as run() does it: node.capture(frame, timeout_ms); node.process(frame, stamp).
-// capture() and process() must be called from one thread (the capture thread). Statistics go on
-// the STATUS channel every lcm.status_period_ms and once more at stop().
+// One step at a time, as run() does it: node.capture(frame, timeout_ms); node.process(frame,
+// stamp). capture() and process() must be called from one thread (the capture thread). Statistics
+// go on the STATUS channel every lcm.status_period_ms and once more at stop().
 #include <array>
 #include <atomic>
 #include <memory>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
-#include <opencv2/core/mat.hpp>
 
 #include "hullpose/camera_node/background_subtractor.hpp"
 #include "hullpose/camera_node/frame_source.hpp"
 #include "hullpose/camera_node/mask_cleanup.hpp"
 #include "hullpose/camera_node/node_config.hpp"
 #include "hullpose/camera_node/publisher.hpp"
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/counters.hpp"
 #include "hullpose/common/rig.hpp"
 
@@ -63,18 +65,24 @@ class FrameTrigger {
   // A free-running camera (config trigger.camera: free_running): takes `frame` and returns at
   // once, in `decided`, the frames (by Frame::sequence, this one or earlier) now chosen as nearest
   // to a trigger edge, with that edge's stamp.
-  virtual void offer(const Frame& frame, std::vector<std::pair<int64_t, TriggerStamp>>& decided) = 0;
+  virtual void offer(const Frame& frame,
+                     std::vector<std::pair<int64_t, TriggerStamp>>& decided) = 0;
   // Counters and state for STATUS and the log (mapping drops, clock offset).
   virtual void report(std::vector<std::pair<std::string, int64_t>>& out) const = 0;
 };
 
+// The bus at the config's lcm.url; throws hullpose::Error naming the file and lcm.url.
+std::unique_ptr<bus::Bus> open_node_bus(const NodeConfig& config);
+
 class CameraNode {
  public:
-  // Loads the rig, checks the camera id, the ROI and every stage's parameters, opens LCM.
-  // Throws hullpose::Error naming the config file and field. `trigger` replaces the one the
-  // config's trigger: section describes (tests inject simulated edges this way).
-  explicit CameraNode(NodeConfig config, const SourceRegistry& sources = SourceRegistry::builtin(),
-                      std::unique_ptr<FrameTrigger> trigger = nullptr);
+  // Loads the rig, checks the camera id, the ROI and every stage's parameters. Publishes and
+  // hears TRIGGER on `bus` (the process's, which outlives the node). Throws hullpose::Error
+  // naming the config file and field. `trigger` replaces the one the config's trigger: section
+  // describes (tests inject simulated edges this way).
+  CameraNode(NodeConfig config, bus::Bus& bus,
+             const SourceRegistry& sources = SourceRegistry::builtin(),
+             std::unique_ptr<FrameTrigger> trigger = nullptr);
   ~CameraNode();
   CameraNode(const CameraNode&) = delete;
   CameraNode& operator=(const CameraNode&) = delete;

@@ -3,7 +3,6 @@
 // libgpiod, or a simulated rig's wire) and the master's TRIGGER announcements in, each frame's
 // trigger instant out, through camera_node/trigger's TriggerClient (sequence mapping robust to a
 // late start, missed edges, lost announcements and clock offsets).
-#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
 
@@ -16,7 +15,7 @@ class TriggerStage final : public FrameTrigger {
  public:
   // Opens nothing. `simulated_sensor`: the source exposes one frame per edge (next_instant()),
   // else the camera exposes by itself and frames are stamped (stamp()).
-  TriggerStage(const TriggerConfig& config, const LcmConfig& lcm, std::string rig_id, int camera_id,
+  TriggerStage(const TriggerConfig& config, bus::Bus& bus, std::string rig_id, int camera_id,
                bool simulated_sensor);
   ~TriggerStage() override;
 
@@ -30,11 +29,10 @@ class TriggerStage final : public FrameTrigger {
   TriggerStamp to_stamp(const trigger::TaggedFrame& t, int64_t capture_utime) const;
 
   TriggerConfig config_;
-  std::string url_;
+  bus::Bus& bus_;
   int camera_id_;
   trigger::ListenerConfig listener_config_;
   trigger::NodeClock clock_;
-  std::unique_ptr<lcm::LCM> bus_;
   std::unique_ptr<trigger::EdgeSource> edges_;
   std::unique_ptr<trigger::TriggerClient> client_;
   std::vector<trigger::TaggedFrame> tagged_;

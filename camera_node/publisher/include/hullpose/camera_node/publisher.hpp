@@ -1,6 +1,6 @@
 #pragma once
 // Sends a camera node's silhouettes (channel SILHOUETTE, hullpose_msg::silhouette_t) and health
-// (channel STATUS, node_status_t) over LCM.
+// (channel STATUS, node_status_t) on the process's bus.
 //
 // The network never blocks capture: publish() encodes the mask on the caller's thread into a
 // slot of a bounded ring and returns; a publisher thread sends the slots. When the ring is full
@@ -9,7 +9,6 @@
 // latest status wins).
 #include <condition_variable>
 #include <cstdint>
-#include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <opencv2/core/mat.hpp>
 #include <optional>
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "hullpose/camera_node/node_config.hpp"
+#include "hullpose/common/bus.hpp"
 #include "hullpose/common/counters.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
 #include "hullpose_msg/node_status_t.hpp"
@@ -30,7 +30,8 @@ struct SilhouetteStamp {
   int64_t trigger_seq = 0;
   int64_t trigger_utime = 0;
   int64_t capture_utime = 0;
-  int64_t clock_offset_us = 0;  // node realtime clock - master clock: node_done_utime is on the master's
+  int64_t clock_offset_us =
+      0;  // node realtime clock - master clock: node_done_utime is on the master's
   int32_t capture_us = 0;
   int32_t subtract_us = 0;
   int32_t morphology_us = 0;
@@ -38,8 +39,10 @@ struct SilhouetteStamp {
 
 class SilhouettePublisher {
  public:
-  // Opens LCM at config.url (throws hullpose::Error naming the URL) and starts the publisher thread.
-  SilhouettePublisher(const LcmConfig& config, std::string rig_id, int camera_id, Counters& counters);
+  // Starts the publisher thread, which sends on `bus` (outlives the publisher; its publish() is
+  // thread-safe).
+  SilhouettePublisher(const LcmConfig& config, bus::Bus& bus, std::string rig_id, int camera_id,
+                      Counters& counters);
   ~SilhouettePublisher();
   SilhouettePublisher(const SilhouettePublisher&) = delete;
   SilhouettePublisher& operator=(const SilhouettePublisher&) = delete;
@@ -62,7 +65,8 @@ class SilhouettePublisher {
   std::string rig_id_;
   int camera_id_;
   Counters& counters_;
-  lcm::LCM lcm_;
+  bus::Bus& bus_;
+  std::vector<uint8_t> scratch_;  // the publisher thread's encode buffer, reused
   SilhouetteEncoder encoder_;
 
   mutable std::mutex mutex_;

@@ -80,12 +80,16 @@ struct SourceContext {
 using SourceFactory =
     std::function<std::unique_ptr<FrameSource>(const Params&, const SourceContext&)>;
 
-// Backends by name. builtin() holds libcamera, v4l2, file and synthetic;
-// tests may add their own.
+// Backends by name. builtin() holds libcamera, v4l2, file and synthetic (libcamera and synthetic
+// only where the build has them: HULLPOSE_LIBCAMERA, HULLPOSE_SYNTHETIC_SOURCE); tests may add
+// their own.
 class SourceRegistry {
  public:
   static SourceRegistry& builtin();
   void add(std::string name, SourceFactory factory);
+  // A backend this build left out (its library was not configured): choosing it is an error
+  // that says why, rather than "unknown source".
+  void add_unavailable(std::string name, std::string why);
   // Throws hullpose::Error for an unknown name (listing the known ones) or bad parameters.
   std::unique_ptr<FrameSource> create(const std::string& name, const Params& params,
                                       const SourceContext& context) const;

@@ -1,5 +1,5 @@
 #pragma once
-// The simulated camera: renders this camera's view of the synthetic rig live (tools/synth: a
+// The simulated camera: renders this camera's view of the synthetic rig live (synth/: a
 // motion drives the avatar in a textured room with soft shadows, slow illumination drift and
 // sensor noise). The first `empty_frames` frames show the empty room, for learning the
 // background; frame empty_frames + k shows the motion at time k / fps. Frame n gets

@@ -3,19 +3,25 @@
 //   gpiod:CHIP:OFFSET  libgpiod (v1) line events; kernel stamps are CLOCK_MONOTONIC
 //   wire:PATH          the simulated wire of hullpose-trigger-master --line wire:PATH
 //   SimEdgeSource      edges pushed by tests
-// Times are on the node clock: CLOCK_MONOTONIC plus a configured offset (a board whose clock is
-// off by that much; 0 in production). Everything that compares with edge times (announcement
-// receive times, sensor timestamps) must use NodeClock with the same offset.
+// Times are on the node clock: the process Clock's monotonic time (CLOCK_MONOTONIC in production)
+// plus a configured offset (a board whose clock is off by that much; 0 in production).
+// Everything that compares with edge times (announcement receive times, sensor timestamps) must
+// use NodeClock with the same offset and Clock.
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <string>
 
+#include "hullpose/common/clock.hpp"
+
 namespace hullpose::trigger {
 
 struct NodeClock {
   int64_t offset_us = 0;
-  int64_t now_us() const;
+  Clock* clock = &system_clock();  // tests: a SimClock
+  int64_t now_us() const { return clock->monotonic_us() + offset_us; }
+  // Maps the sensor's realtime timestamps onto the node clock.
+  int64_t realtime_minus_node_us() const { return clock->realtime_utime() - now_us(); }
 };
 
 class EdgeSource {
@@ -30,7 +36,8 @@ class EdgeSource {
 
 // Throws hullpose::Error naming the spec and the device when it cannot be opened (a wire: is
 // waited for up to connect_timeout_ms).
-std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock, int connect_timeout_ms = 0);
+std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock,
+                                             int connect_timeout_ms = 0);
 
 class SimEdgeSource final : public EdgeSource {
  public:

@@ -3,9 +3,8 @@
 // camera: it owns the TRIGGER subscription and the edge source, and tags each frame as it comes
 // (camera_node's FrameStamper seam):
 //
-//   lcm::LCM bus(url);
 //   auto edges = open_edge_source("gpiod:gpiochip0:17", clock);
-//   TriggerClient client(bus, *edges, listener_config, clock);
+//   TriggerClient client(bus, *edges, listener_config, clock);   // the process's bus
 //   stamper = [&](const Frame& f) { auto t = client.tag(f.sequence, f.capture_utime, 20); ... };
 //
 // A simulated sensor (ListenerConfig::expose_after_edge_us >= 0) exposes at every edge by itself:
@@ -13,20 +12,19 @@
 // A client serves one kind of camera: use tag() or next_exposure(), not both.
 // A free-running camera needs the frames after an edge to choose the nearest one: offer() each
 // frame, keep the last few, and publish the ones it hands back.
-#include <lcm/lcm-cpp.hpp>
-#include <functional>
 #include <optional>
 #include <vector>
 
 #include "hullpose/camera_node/trigger_listener.hpp"
+#include "hullpose/common/bus.hpp"
 
 namespace hullpose::trigger {
 
 class TriggerClient {
  public:
-  // node_now: the node clock (tests inject one); default clock.now_us().
-  TriggerClient(lcm::LCM& bus, EdgeSource& edges, const ListenerConfig& config, const NodeClock& clock,
-                const std::string& channel = "TRIGGER", std::function<int64_t()> node_now = {});
+  // Times come from `clock` (tests: NodeClock on a SimClock); waiting is real (poll()).
+  TriggerClient(bus::Bus& bus, EdgeSource& edges, const ListenerConfig& config,
+                const NodeClock& clock, const std::string& channel = "TRIGGER");
   ~TriggerClient();
   TriggerClient(const TriggerClient&) = delete;
   TriggerClient& operator=(const TriggerClient&) = delete;
@@ -50,19 +48,17 @@ class TriggerClient {
   const Counters& counters() const { return counters_; }
 
  private:
-  void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   int64_t to_node_clock(int64_t frame_utime) const;
   // Handles what is pending on the bus and the trigger input, then waits for either, until
   // `done` (which sees the newly tagged frames) says so or wait_ms passes.
   template <class Done>
   bool pump(int wait_ms, Done&& done);
 
-  lcm::LCM& bus_;
+  bus::Bus& bus_;
   EdgeSource& edges_;
   NodeClock clock_;
-  std::function<int64_t()> node_now_;
   TriggerListener listener_;
-  lcm::Subscription* subscription_ = nullptr;
+  bus::Subscription subscription_;
   hullpose_msg::trigger_t msg_;
   std::vector<TaggedFrame> tagged_;
   size_t next_tagged_ = 0;  // next_exposure(): tagged_[next_tagged_..] wait to be handed out

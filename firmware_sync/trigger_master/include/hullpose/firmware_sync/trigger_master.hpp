@@ -7,13 +7,12 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <hullpose_msg/trigger_t.hpp>
 #include <mutex>
 #include <string>
 #include <vector>
 
-#include <hullpose_msg/trigger_t.hpp>
-
-#include "hullpose/firmware_sync/clock.hpp"
+#include "hullpose/common/clock.hpp"
 #include "hullpose/firmware_sync/trigger_line.hpp"
 
 namespace hullpose::sync {
@@ -29,10 +28,15 @@ struct TriggerMasterConfig {
 class JitterStats {
  public:
   static constexpr size_t kWindow = 1024;
-  JitterStats() { window_.resize(kWindow); scratch_.resize(kWindow); }
+  JitterStats() {
+    window_.resize(kWindow);
+    scratch_.resize(kWindow);
+  }
   void add(int64_t late_us);
   int64_t count() const { return count_; }
-  double mean_us() const { return count_ ? static_cast<double>(sum_) / static_cast<double>(count_) : 0.0; }
+  double mean_us() const {
+    return count_ ? static_cast<double>(sum_) / static_cast<double>(count_) : 0.0;
+  }
   int64_t max_us() const { return max_; }
   // 99th percentile over the window (sorts a preallocated copy).
   int64_t p99_us();
@@ -46,8 +50,8 @@ class TriggerMaster {
  public:
   using Announce = std::function<void(const hullpose_msg::trigger_t&)>;
   // epoch: a random id for this run of the master (new_epoch()).
-  TriggerMaster(const TriggerMasterConfig& config, TriggerLine& line, Clock& clock, Announce announce,
-                int64_t epoch);
+  TriggerMaster(const TriggerMasterConfig& config, TriggerLine& line, Clock& clock,
+                Announce announce, int64_t epoch);
 
   // Waits for the next slot, drives one pulse and announces it. Returns its sequence number.
   int64_t pulse();

@@ -82,10 +82,15 @@ class FusionCore {
 
   const VoxelGridSpec& grid() const { return carver_.grid(); }
   const FusionOptions& options() const { return options_; }
-  // The backend in use: kCpu or kCuda (auto resolved at construction).
+  // The backend in use: kCpu or kCuda (auto resolved at construction; kCpu from the first CUDA
+  // error on, counted "fusion.cuda_error").
   gpu::Backend backend() const { return backend_; }
 
  private:
+  // Runs `step` on the GPU backend; false (and the CPU from now on) without one or when it fails.
+  template <class Step>
+  bool on_gpu(Step&& step);
+
   FusionOptions options_;
   Counters* counters_;
   carve::Carver carver_;

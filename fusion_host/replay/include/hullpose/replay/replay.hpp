@@ -1,12 +1,11 @@
 #pragma once
-// Offline pipeline of the fusion host: a dataset on disk (docs/conventions.md) through
-// carve -> thin -> pose tree -> fit, frame by frame, into the estimate file hullpose-eval reads,
-// with per-stage timings beside it. The same stages as the live service, minus the network.
+// Offline pipeline of the fusion host: a dataset on disk (docs/conventions.md) through the
+// PosePipeline the live service runs (fusion_host/pipeline: carve -> thin -> pose tree -> fit),
+// frame by frame, into the estimate file hullpose-eval reads, with per-stage timings beside it.
 #include <filesystem>
 #include <optional>
 
-#include "hullpose/fusion/fusion_core.hpp"
-#include "hullpose/pose/pose_estimator.hpp"
+#include "hullpose/fusion_host/pose_pipeline.hpp"
 
 namespace hullpose::replay {
 

@@ -14,10 +14,11 @@ namespace hullpose::fusion {
 
 struct PoseEstimate {
   bool valid = false;
-  int8_t reason = 0;                                   // skeleton_t::REASON_*
+  int8_t reason = 0;  // skeleton_t::REASON_*
   std::array<std::array<float, 3>, kNumJoints> position_mm{};
   std::array<float, kNumJoints> confidence{};
-  int64_t fused_utime = 0;  // when carving + thinning finished (realtime); 0: not reached
+  // When carving + thinning finished, microseconds after process() began; -1: not reached.
+  int64_t fused_after_us = -1;
 };
 
 class FramePipeline {
@@ -31,7 +32,7 @@ class FramePipeline {
 // mask of each camera that sent one, an empty Mat for the others; rois likewise. Reuses the
 // vectors (cv::Mat headers share the assembler's buffers: no pixel copies, no allocation once
 // the vectors have their size).
-void views_by_camera_index(const AssembledFrame& frame, size_t num_cameras, std::vector<cv::Mat>& masks,
-                           std::vector<PixelRoi>& rois);
+void views_by_camera_index(const AssembledFrame& frame, size_t num_cameras,
+                           std::vector<cv::Mat>& masks, std::vector<PixelRoi>& rois);
 
 }  // namespace hullpose::fusion

@@ -3,17 +3,18 @@
 // frames assembled per trigger sequence, the pipeline run on each frame with enough views,
 // SKELETON out for every closed frame (valid or with its reason) with the latency breakdown
 // trigger -> capture -> node done -> received -> fused -> published, and STATUS once a second.
-// Single-threaded: one loop owns the LCM handle, the assembler and the pipeline.
+// Single-threaded: one loop handles the bus and owns the assembler and the pipeline. The bus and
+// the clock are the process's (service_main opens them); tests pass "memq://" and a SimClock.
 #include <functional>
-#include <lcm/lcm-cpp.hpp>
+#include <hullpose_msg/node_status_t.hpp>
+#include <hullpose_msg/skeleton_t.hpp>
+#include <hullpose_msg/trigger_t.hpp>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <hullpose_msg/node_status_t.hpp>
-#include <hullpose_msg/skeleton_t.hpp>
-#include <hullpose_msg/trigger_t.hpp>
-
+#include "hullpose/common/bus.hpp"
+#include "hullpose/common/clock.hpp"
 #include "hullpose/common/counters.hpp"
 #include "hullpose/fusion_host/frame_assembler.hpp"
 #include "hullpose/fusion_host/frame_pipeline.hpp"
@@ -31,13 +32,15 @@ struct ServiceConfig {
 
 class FusionService {
  public:
-  FusionService(lcm::LCM& bus, const Rig& rig, FramePipeline& pipeline, const ServiceConfig& config);
+  FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FramePipeline& pipeline,
+                const ServiceConfig& config);
   ~FusionService();
   FusionService(const FusionService&) = delete;
   FusionService& operator=(const FusionService&) = delete;
 
-  // Handles every message that arrives within timeout_ms (returning early once the next frame
-  // deadline passes), closes the frames that are due, publishes STATUS when due.
+  // Waits up to timeout_ms (at most 2 ms while frames are open, so that deadlines are checked)
+  // for messages, handles what arrived, closes the frames that are due by the clock, publishes
+  // STATUS when due.
   void step(int timeout_ms);
   // step() until keep_going() is false, then closes the open frames.
   void run(const std::function<bool()>& keep_going);
@@ -48,21 +51,20 @@ class FusionService {
   int64_t skeletons_published() const { return published_; }
 
  private:
-  void on_silhouette(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void on_frame(const AssembledFrame& frame);
   void publish_status(int64_t now_us);
 
-  lcm::LCM& bus_;
+  bus::Bus& bus_;
+  Clock& clock_;
   const Rig& rig_;
   FramePipeline& pipeline_;
   ServiceConfig config_;
   FrameAssembler assembler_;
-  std::vector<lcm::Subscription*> subscriptions_;
+  std::vector<bus::Subscription> subscriptions_;
   hullpose_msg::skeleton_t skeleton_;
   hullpose_msg::trigger_t trigger_;
   PoseEstimate estimate_;
-  std::vector<uint8_t> buffer_;
+  std::vector<uint8_t> buffer_, status_buffer_;
   Counters counters_;
   int64_t published_ = 0;
   int64_t last_seq_ = -1;
@@ -75,17 +77,21 @@ class FusionService {
 
 // Options of the pipeline on a fusion host's command line.
 struct PipelineOptions {
-  int resolution = 128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
-  int tolerance = 0;    // --tolerance K: a voxel may be missed by K present cameras
+  int resolution =
+      128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
+  int tolerance = 0;             // --tolerance K: a voxel may be missed by K present cameras
   std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
-// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the pipeline with
-// `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration.
-// Returns the process exit code; errors print "<tool>: error: ..." and return 2.
-int service_main(int argc, char** argv, const char* tool,
-                 const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>& make_pipeline);
+// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the
+// pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration. Returns
+// the exit code; throws hullpose::Error on bad options or files (run it inside run_tool,
+// common/tool.hpp).
+int service_main(
+    int argc, const char* const* argv, const char* tool,
+    const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>&
+        make_pipeline);
 
 }  // namespace hullpose::fusion

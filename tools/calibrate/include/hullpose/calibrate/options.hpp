@@ -1,6 +1,7 @@
 #pragma once
 // hullpose-calibrate's command line.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,11 +20,11 @@ struct CommandLine {
   std::filesystem::path compare;  // optional: another calibration of the rig to compare with
   CalibrationOptions options;
   bool quiet = false;
-  bool help = false;
 };
 
-// Throws hullpose::Error naming the offending argument.
-CommandLine parse_command_line(int argc, const char* const* argv);
+// The options, or nullopt after printing usage() for --help. Throws hullpose::Error naming the
+// offending argument (common/cli).
+std::optional<CommandLine> parse_command_line(int argc, const char* const* argv);
 std::string usage();
 
 }  // namespace hullpose::calibrate

@@ -33,9 +33,6 @@ enum class FrameStatus {
 };
 const char* to_string(FrameStatus status);
 
-// The skeleton_t REASON_* code by name ("pose_jump"), or "reason_<n>" for an unknown code.
-std::string reason_name(int reason);
-
 struct FrameResult {
   int frame = 0;
   FrameStatus status = FrameStatus::Missing;

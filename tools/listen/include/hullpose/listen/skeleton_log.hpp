@@ -5,11 +5,10 @@
 // numbers never received.
 #include <array>
 #include <cstdint>
+#include <hullpose_msg/skeleton_t.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <hullpose_msg/skeleton_t.hpp>
 
 namespace hullpose::listen {
 
@@ -29,7 +28,8 @@ class LatencySeries {
   size_t next_ = 0, total_ = 0;
 };
 
-inline constexpr std::array<const char*, 5> kStages = {"capture", "node_done", "received", "fused", "published"};
+inline constexpr std::array<const char*, 5> kStages = {"capture", "node_done", "received", "fused",
+                                                       "published"};
 
 class SkeletonStats {
  public:
@@ -43,7 +43,7 @@ class SkeletonStats {
 
  private:
   std::array<LatencySeries, kStages.size()> stages_;
-  std::array<int64_t, 8> reasons_{};
+  std::array<int64_t, 8> reasons_{};  // by REASON_* code; the last one also counts larger codes
   int64_t received_ = 0, valid_ = 0, missing_ = 0, out_of_order_ = 0, last_seq_ = -1;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // Motions: the 25 joints of common/joints.hpp as a function of time, in mm in the rig frame
 // (z up, floor at z = 0). Two sources: CMU BVH clips (three naming schemes, see
-// tools/synth/README.md for the joint map) and built-in procedural motions that need no files.
+// synth/README.md for the joint map) and built-in procedural motions that need no files.
 #include <filesystem>
 #include <memory>
 #include <string>

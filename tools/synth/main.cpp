@@ -1,4 +1,5 @@
-// hullpose-synth: renders a synthetic multi-view dataset with ground truth (tools/synth/README.md).
+// hullpose-synth: renders a synthetic multi-view dataset with ground truth (synth/ renders it;
+// tools/synth/README.md).
 #include <unistd.h>
 
 #include <cstdio>
@@ -8,6 +9,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/synth/dataset_writer.hpp"
 #include "hullpose/synth/rig_gen.hpp"
 
@@ -48,22 +50,25 @@ void progress(int done, int total) {
   if (pct == last && done != total) return;
   last = pct;
   const int width = 40, fill = width * done / std::max(1, total);
-  std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames", std::string(static_cast<size_t>(fill), '#').c_str(),
+  std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames",
+               std::string(static_cast<size_t>(fill), '#').c_str(),
                std::string(static_cast<size_t>(width - fill), '.').c_str(), pct, done, total);
   if (done == total) std::fputc('\n', stderr);
   std::fflush(stderr);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, const char* const* argv) {
   using namespace hullpose::synth;
-  try {
+  {
     SynthConfig cfg;
     bool have_motion = false;
     std::string rig_out;
     hullpose::cli::CommandLine cl(kUsage);
-    cl.option("--motion", [&](const std::string& v) { cfg.motion = v; have_motion = true; })
+    cl.option("--motion",
+              [&](const std::string& v) {
+                cfg.motion = v;
+                have_motion = true;
+              })
         .option("--out", [&](const std::string& v) { cfg.out = v; })
         .option("--frames", cfg.frames)
         .option("--fps", cfg.fps)
@@ -78,40 +83,43 @@ int main(int argc, char** argv) {
         .option("--stature", cfg.motion_options.stature_mm)
         .option("--speed", cfg.motion_options.speed)
         .option("--stride", cfg.motion_options.stride_mm)
-        .option("--build", [&](const std::string& v) {
-          cfg.body.build = std::isdigit(static_cast<unsigned char>(v[0])) ? hullpose::cli::parse_double("--build", v)
-                                                                        : BodyShape::build_preset(v);
-        })
+        .option("--build",
+                [&](const std::string& v) {
+                  cfg.body.build = std::isdigit(static_cast<unsigned char>(v[0]))
+                                       ? hullpose::cli::parse_double("--build", v)
+                                       : BodyShape::build_preset(v);
+                })
         .option("--clothing", cfg.body.clothing_mm)
         .option("--bvh-mm-per-unit", cfg.motion_options.bvh_mm_per_unit)
         .option("--png-level", cfg.png_compression)
         .option("--threads", [](const std::string& v) {
           cv::setNumThreads(static_cast<int>(hullpose::cli::parse_integer("--threads", v)));
         });
-    if (!cl.parse(argc, argv)) {
-      std::cout << kUsage;
-      return 0;
-    }
-    HULLPOSE_THROW_UNLESS(cfg.png_compression >= 0 && cfg.png_compression <= 9, "--png-level must be 0..9");
+    if (!cl.parse(argc, argv)) return 0;
+    HULLPOSE_THROW_UNLESS(cfg.png_compression >= 0 && cfg.png_compression <= 9,
+                          "--png-level must be 0..9");
     if (!rig_out.empty()) {
       hullpose::save_rig(rig_from_name_or_file(cfg.rig), rig_out);
       if (!have_motion) return 0;
     }
     HULLPOSE_THROW_UNLESS(have_motion, "--motion is required (see --help)");
     HULLPOSE_THROW_UNLESS(!cfg.out.empty(), "--out is required (see --help)");
-    HULLPOSE_THROW_UNLESS(cfg.body.build >= 0.5 && cfg.body.build <= 2, "--build must be in 0.5..2");
-    HULLPOSE_THROW_UNLESS(cfg.body.clothing_mm >= 0 && cfg.body.clothing_mm <= 150, "--clothing must be in 0..150 mm");
-    HULLPOSE_THROW_UNLESS(cfg.backgrounds >= 0 && cfg.backgrounds <= 10000, "--backgrounds must be in 0..10000");
+    HULLPOSE_THROW_UNLESS(cfg.body.build >= 0.5 && cfg.body.build <= 2,
+                          "--build must be in 0.5..2");
+    HULLPOSE_THROW_UNLESS(cfg.body.clothing_mm >= 0 && cfg.body.clothing_mm <= 150,
+                          "--clothing must be in 0..150 mm");
+    HULLPOSE_THROW_UNLESS(cfg.backgrounds >= 0 && cfg.backgrounds <= 10000,
+                          "--backgrounds must be in 0..10000");
     const SynthSummary s = write_dataset(cfg, progress);
-    std::printf("hullpose-synth: %d frames x %d cameras of %s written to %s in %.1f s\n", s.frames, s.cameras,
-                s.motion.c_str(), cfg.out.string().c_str(), s.seconds);
+    std::printf("hullpose-synth: %d frames x %d cameras of %s written to %s in %.1f s\n", s.frames,
+                s.cameras, s.motion.c_str(), cfg.out.string().c_str(), s.seconds);
     std::printf("stature_mm: %.1f\n", s.stature_mm);
     return 0;
-  } catch (const hullpose::Error& e) {
-    std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {  // cv::Exception, std::filesystem::filesystem_error, ...
-    std::fprintf(stderr, "hullpose-synth: error: %s\n", e.what());
-    return 2;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return hullpose::run_tool("hullpose-synth", argc, argv, run);
 }

@@ -13,7 +13,7 @@ namespace {
 
 // Where one of the 25 joints sits on a BVH skeleton: in the frame of BVH joint `joint`, at
 // `fraction` of the offset of its child `toward` plus `local` (file units). Virtual points
-// (fraction or local set) fill joints the BVH skeleton lacks; tools/synth/README.md explains.
+// (fraction or local set) fill joints the BVH skeleton lacks; synth/README.md explains.
 // Some releases (02_01) write zero-length End Sites: then an End Site stands at `if_zero` times
 // its parent's bone, continued.
 struct JointSource {

@@ -1,14 +1,18 @@
-#include "hullpose/firmware_sync/clock.hpp"
+#include "hullpose/common/clock.hpp"
 
 #include <cerrno>
 #include <ctime>
 
 #include "hullpose/common/time.hpp"
 
-namespace hullpose::sync {
+namespace hullpose {
 
-int64_t SystemClock::monotonic_us() { return hullpose::monotonic_us(); }
-int64_t SystemClock::realtime_utime() { return hullpose::realtime_utime(); }
+int64_t SystemClock::monotonic_us() {
+  return hullpose::monotonic_us();
+}
+int64_t SystemClock::realtime_utime() {
+  return hullpose::realtime_utime();
+}
 
 void SystemClock::sleep_until_monotonic_us(int64_t t_us) {
   timespec ts{};
@@ -18,4 +22,9 @@ void SystemClock::sleep_until_monotonic_us(int64_t t_us) {
   }
 }
 
-}  // namespace hullpose::sync
+SystemClock& system_clock() {
+  static SystemClock clock;
+  return clock;
+}
+
+}  // namespace hullpose
