@@ -76,7 +76,9 @@ void Rig::validate() const {
 
 double repair_rotation(Eigen::Matrix3d& R) {
   const double deviation = orthonormality_error(R);
-  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair || R.determinant() <= 0) return 0;
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
+      R.determinant() <= 0)
+    return 0;
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   R = svd.matrixU() * svd.matrixV().transpose();
   return deviation;
@@ -116,7 +118,8 @@ Rig load_rig(const std::filesystem::path& path) {
     const auto r = node.need("R").reals(9);
     c.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
     if (const double deviation = repair_rotation(c.R); deviation > 0) {
-      HULLPOSE_LOG(RigFile, Warn) << file << ": camera " << c.id << ": R is off orthonormal by " << deviation
+      HULLPOSE_LOG(RigFile, Warn) << file << ": camera " << c.id << ": R is off orthonormal by "
+                                  << deviation
                                   << " (max |R^T R - I|), replaced by the nearest rotation";
     }
     const auto t = node.need("t_mm").reals(3);

@@ -89,7 +89,9 @@ TEST_CASE("hullpose-eval scores against the silhouettes when the dataset has no 
   const char* argv[] = {"hullpose-eval", "--gt",     gt.c_str(),     "--est",
                         est.c_str(),     "--report", report.c_str(), "--json"};
   std::ostringstream o, e;
-  REQUIRE(run_tool("hullpose-eval", 8, argv, [&o](int c, const char* const* v) { return run_cli(c, v, o); }, e) == 0);
+  REQUIRE(run_tool(
+              "hullpose-eval", 8, argv,
+              [&o](int c, const char* const* v) { return run_cli(c, v, o); }, e) == 0);
   CHECK_THAT(o.str(), Catch::Contains("\"mode\":\"consistency\"") &&
                           Catch::Contains("\"inside_all_views_pct\":100.0"));
   CHECK(fs::exists(out.path / "report" / "report.html"));

@@ -5,6 +5,7 @@
 #include "hullpose/import/cli.hpp"
 
 int main(int argc, char** argv) {
-  return hullpose::run_tool("hullpose-import", argc, argv,
-                            [](int c, const char* const* v) { return hullpose::import::run_cli(c, v, std::cout); });
+  return hullpose::run_tool("hullpose-import", argc, argv, [](int c, const char* const* v) {
+    return hullpose::import::run_cli(c, v, std::cout);
+  });
 }

@@ -209,10 +209,11 @@ Carver::~Carver() = default;
 
 HULLPOSE_LOG_CATEGORY(Carve, "carve")
 
-void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const {
-  HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(), "carve: " << views.size() << " views for the "
-                                                                         << rig_.cameras.size() << " cameras of rig '"
-                                                                         << rig_.rig_id << "'");
+void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report,
+                         std::vector<int>& present) const {
+  HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(),
+                        "carve: " << views.size() << " views for the " << rig_.cameras.size()
+                                  << " cameras of rig '" << rig_.rig_id << "'");
   report.missing_cameras.clear();
   report.rejected_cameras.clear();
   present.clear();
@@ -223,9 +224,9 @@ void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, st
       report.missing_cameras.push_back(cam.id);
     } else if (m.type() != CV_8UC1 || m.cols != cam.width || m.rows != cam.height) {
       report.rejected_cameras.push_back(cam.id);
-      HULLPOSE_LOG(Carve, Debug) << "camera " << cam.id << ": mask " << m.cols << "x" << m.rows << " of type "
-                                 << m.type() << " skipped (the rig says " << cam.width << "x" << cam.height
-                                 << " CV_8UC1)";
+      HULLPOSE_LOG(Carve, Debug) << "camera " << cam.id << ": mask " << m.cols << "x" << m.rows
+                                 << " of type " << m.type() << " skipped (the rig says "
+                                 << cam.width << "x" << cam.height << " CV_8UC1)";
     } else {
       present.push_back(static_cast<int>(c));
     }
@@ -233,8 +234,8 @@ void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, st
   report.cameras_used = static_cast<int>(present.size());
   report.valid = report.cameras_used > options_.tolerance;
   HULLPOSE_LOG(Carve, Debug) << report.cameras_used << " of " << views.size() << " cameras carve, "
-                             << report.missing_cameras.size() << " sent nothing, " << report.rejected_cameras.size()
-                             << " rejected";
+                             << report.missing_cameras.size() << " sent nothing, "
+                             << report.rejected_cameras.size() << " rejected";
 }
 
 void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull,

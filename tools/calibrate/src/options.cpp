@@ -30,8 +30,10 @@ std::string usage() {
          "  --rig-id ID              rig id written to the rig file (default: calibrated)\n"
          "  --min-views N            board views a camera needs for its intrinsics (default 8)\n"
          "  --fix-intrinsics         keep the per-camera intrinsics in the bundle adjustment\n"
-         "  --intrinsics RIG.yaml    known intrinsics (by camera id, e.g. hullpose-import rig): only the\n"
-         "                           board poses and the extrinsics are estimated; one view per camera\n"
+         "  --intrinsics RIG.yaml    known intrinsics (by camera id, e.g. hullpose-import rig): "
+         "only the\n"
+         "                           board poses and the extrinsics are estimated; one view per "
+         "camera\n"
          "                           (the floor board) is enough\n"
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
@@ -39,7 +41,8 @@ std::string usage() {
          "2)\n"
          "  --report FILE            also write the report to FILE\n"
          "  --compare RIG.yaml       how the result agrees with another calibration of the rig\n"
-         "                           (per camera centre mm, orientation deg, after aligning frames)\n"
+         "                           (per camera centre mm, orientation deg, after aligning "
+         "frames)\n"
          "  --quiet                  no per-image feedback\n";
 }
 
@@ -58,7 +61,8 @@ std::optional<CommandLine> parse_command_line(int argc, const char* const* argv)
       .option("--compare", compare)
       .option("--intrinsics",
               [&](const std::string& v) {
-                for (const CameraModel& c : load_rig(v).cameras) cli.options.known_intrinsics[c.id] = c;
+                for (const CameraModel& c : load_rig(v).cameras)
+                  cli.options.known_intrinsics[c.id] = c;
               })
       .option("--board",
               [&](const std::string& v) {

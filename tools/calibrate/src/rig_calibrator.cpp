@@ -111,17 +111,16 @@ namespace {
 // 1. Intrinsics, every camera on its own (or only its board poses where they are known); every
 // camera that fails is reported at once.
 std::vector<IntrinsicsResult> calibrate_intrinsics(
-    const std::map<int, IntrinsicsCalibrator>& cameras, const std::map<int, CameraModel>& known_intrinsics,
-    std::vector<int>& ids) {
+    const std::map<int, IntrinsicsCalibrator>& cameras,
+    const std::map<int, CameraModel>& known_intrinsics, std::vector<int>& ids) {
   std::vector<IntrinsicsResult> intrinsics;
   std::string failures;
   for (const auto& [id, calibrator] : cameras) {
     ids.push_back(id);
     try {
       const auto known = known_intrinsics.find(id);
-      intrinsics.push_back(known != known_intrinsics.end()
-                               ? calibrator.with_known(known->second)
-                               : calibrator.calibrate());
+      intrinsics.push_back(known != known_intrinsics.end() ? calibrator.with_known(known->second)
+                                                           : calibrator.calibrate());
     } catch (const Error& e) {
       failures += std::string(failures.empty() ? "" : "; ") + e.what();
       intrinsics.emplace_back();
@@ -321,7 +320,8 @@ void check_consistent(const CalibrationOptions& options,
 CalibrationResult RigCalibrator::solve() const {
   HULLPOSE_THROW_UNLESS(!cameras_.empty(), "no images were given");
   std::vector<int> ids;
-  const std::vector<IntrinsicsResult> intrinsics = calibrate_intrinsics(cameras_, options_.known_intrinsics, ids);
+  const std::vector<IntrinsicsResult> intrinsics =
+      calibrate_intrinsics(cameras_, options_.known_intrinsics, ids);
   const int n_cams = static_cast<int>(ids.size());
   const int n_views = static_cast<int>(views_.size());
 

@@ -14,14 +14,18 @@ namespace hullpose::eval {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hullpose-eval --gt DIR --est FILE [--json] [--report DIR] [--tolerance-px 2] [--show-frames F,F,...]\n"
-    "  --gt DIR       dataset directory (meta.json, ground_truth.csv); without ground_truth.csv the\n"
+    "usage: hullpose-eval --gt DIR --est FILE [--json] [--report DIR] [--tolerance-px 2] "
+    "[--show-frames F,F,...]\n"
+    "  --gt DIR       dataset directory (meta.json, ground_truth.csv); without ground_truth.csv "
+    "the\n"
     "                 estimate is scored against the silhouettes (consistency.hpp)\n"
     "  --est FILE     estimate CSV (frame,valid,reason,HeadTop_x,...,RToe_z)\n"
     "  --json         print one JSON object instead of the table\n"
     "  --report DIR   also write DIR/report.html (the plots) and DIR/per_frame.csv\n"
-    "  --tolerance-px, --show-frames: without ground truth, how far outside a silhouette a bone point\n"
-    "                 may project, and the frames drawn in the report (default: 4 spread over the valid)\n";
+    "  --tolerance-px, --show-frames: without ground truth, how far outside a silhouette a bone "
+    "point\n"
+    "                 may project, and the frames drawn in the report (default: 4 spread over the "
+    "valid)\n";
 
 struct Options {
   std::string gt, est, report;
@@ -41,8 +45,8 @@ std::optional<Options> parse(int argc, const char* const* argv, std::ostream& ou
       .option("--show-frames", [&](const std::string& v) {
         for (size_t start = 0; start <= v.size();) {
           const size_t comma = v.find(',', start);
-          o.consistency.show_frames.push_back(static_cast<int>(
-              cli::parse_integer("--show-frames", std::string_view(v).substr(start, comma - start))));
+          o.consistency.show_frames.push_back(static_cast<int>(cli::parse_integer(
+              "--show-frames", std::string_view(v).substr(start, comma - start))));
           if (comma == std::string::npos) break;
           start = comma + 1;
         }
@@ -62,7 +66,8 @@ int run_consistency(const Options& o, std::ostream& out) {
   else
     write_consistency_table(out, result, o.gt, o.est);
   if (!o.report.empty()) {
-    const auto page = write_consistency_report(o.report, o.gt, o.est, estimates, result, o.consistency);
+    const auto page =
+        write_consistency_report(o.report, o.gt, o.est, estimates, result, o.consistency);
     if (!o.json) out << "\nreport: " << page.string() << '\n';
   }
   return 0;

@@ -193,7 +193,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out) {
     out << kUsage;
     return 0;
   }
-  HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command << "' (see --help)");
+  HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command
+                                                                             << "' (see --help)");
 }
 
 }  // namespace hullpose::import

@@ -4,7 +4,8 @@
 //
 //   camera_id: 3
 //   rig_file: rig.yaml              # relative paths are relative to this file's folder
-//   source:                         # a frame-source backend (camera_node/source) and its parameters
+//   source:                         # a frame-source backend (camera_node/source) and its
+//   parameters
 //     type: libcamera               # libcamera | v4l2 | file | synthetic
 //     exposure_us: 4000
 //   bgs:
@@ -20,12 +21,13 @@
 //     roi: [0, 0, 640, 480]         # x y w h; pixels outside are background (default: all)
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
-//     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
-//     status_period_ms: 1000
+//     queue_depth: 4                # silhouettes waiting for the network; more are dropped
+//     (counted) status_period_ms: 1000
 //   trigger:                        # optional: without it the node is free-running (trigger_seq =
 //                                   # the frame counter, unsynchronised with the other nodes)
 //     edges: gpiod                  # the trigger input: gpiod (the trigger GPIO; production) |
-//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated rigs)
+//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated
+//                                   rigs)
 //     chip: gpiochip0               # gpiod: the chip (name, path or label) ...
 //     line: 17                      # ... and the input line's offset
 //     path: /run/hullpose/wire.sock # wire: the master's socket
@@ -33,7 +35,8 @@
 //     max_residual_us: 5000         # how far a frame's exposure may be from its edge
 //     wait_ms: 50                   # how long a frame waits for its edge's announcement
 //     connect_timeout_ms: 10000     # wire: how long start() waits for the master's socket
-//     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in production)
+//     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in
+//     production)
 // With a trigger, a camera that exposes on the trigger line (libcamera/v4l2 with external trigger)
 // gets each frame tagged with its edge; a simulated sensor (file, synthetic) exposes exactly one
 // frame per edge, showing the instant of that trigger.
@@ -53,7 +56,8 @@ struct SourceConfig {
 struct BgsConfig {
   std::string method;
   int learn_frames = 30;
-  std::string background;  // optional image pattern (printf %d) or video, resolved to an absolute path
+  std::string
+      background;  // optional image pattern (printf %d) or video, resolved to an absolute path
   Params params;
 };
 
@@ -74,8 +78,8 @@ struct LcmConfig {
 };
 
 struct TriggerConfig {
-  bool enabled = false;          // a trigger: section is present
-  std::string edges;             // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
+  bool enabled = false;  // a trigger: section is present
+  std::string edges;     // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
   std::string channel = "TRIGGER";
   // trigger.camera: "triggered" (the sensor exposes on the trigger line; default) or
   // "free_running" (no trigger input on the sensor: the frame nearest each edge is published,
