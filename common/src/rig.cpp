@@ -20,7 +20,6 @@ double orthonormality_error(const Eigen::Matrix3d& R) {
   return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
 }
 
-
 bool finite(double v) {
   return std::isfinite(v);
 }
@@ -55,16 +54,6 @@ void validate_camera(const CameraModel& c) {
 
 }  // namespace
 
-double repair_rotation(Eigen::Matrix3d& R) {
-  const double deviation = orthonormality_error(R);
-  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
-      R.determinant() <= 0)
-    return 0;
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  R = svd.matrixU() * svd.matrixV().transpose();
-  return deviation;
-}
-
 const CameraModel* Rig::find(int camera_id) const {
   for (const auto& c : cameras)
     if (c.id == camera_id) return &c;
@@ -83,6 +72,16 @@ void Rig::validate() const {
                         "capture_volume has a non-finite bound");
   HULLPOSE_THROW_UNLESS((volume.max_mm.array() > volume.min_mm.array()).all(),
                         "capture_volume: max must exceed min on every axis");
+}
+
+double repair_rotation(Eigen::Matrix3d& R) {
+  const double deviation = orthonormality_error(R);
+  if (!R.allFinite() || deviation <= 1e-10 || deviation > kMaxRotationRepair ||
+      R.determinant() <= 0)
+    return 0;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  return deviation;
 }
 
 Rig load_rig(const std::filesystem::path& path) {

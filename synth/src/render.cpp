@@ -26,7 +26,8 @@ namespace {
 constexpr double kNear = 10;  // mm: primitives closer to the camera plane get the whole image
 
 // Normalised-coordinate extent of a sphere seen from the origin (camera frame), per axis.
-bool sphere_extent(const Eigen::Vector3d& c, double r, double& x0, double& x1, double& y0, double& y1) {
+bool sphere_extent(const Eigen::Vector3d& c, double r, double& x0, double& x1, double& y0,
+                   double& y1) {
   if (c.z() - r < kNear) return false;
   auto range = [&](double a, double& lo, double& hi) {
     const double theta = std::atan2(a, c.z());
@@ -46,18 +47,23 @@ ViewRenderer::ViewRenderer(const CameraModel& camera) : camera_(camera) {
   for (int v = 0; v < camera.height; ++v) {
     auto* row = rays_.ptr<cv::Vec2f>(v);
     for (int u = 0; u < camera.width; ++u)
-      row[u] = cv::Vec2f(static_cast<float>((u - camera.cx) / camera.fx), static_cast<float>((v - camera.cy) / camera.fy));
+      row[u] = cv::Vec2f(static_cast<float>((u - camera.cx) / camera.fx),
+                         static_cast<float>((v - camera.cy) / camera.fy));
   }
   if (camera.has_distortion()) {
     // OpenCV's iterative undistortion, run to convergence (the default stops after 5 steps).
     std::vector<cv::Point2f> pixels;
     pixels.reserve(rays_.total());
     for (int v = 0; v < camera.height; ++v)
-      for (int u = 0; u < camera.width; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+      for (int u = 0; u < camera.width; ++u)
+        pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
     const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-    const cv::Matx<double, 1, 5> dist(camera.dist[0], camera.dist[1], camera.dist[2], camera.dist[3], camera.dist[4]);
-    cv::undistortPoints(pixels, rays_.reshape(2, static_cast<int>(rays_.total())), K, dist, cv::noArray(), cv::noArray(),
-                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+    const cv::Matx<double, 1, 5> dist(camera.dist[0], camera.dist[1], camera.dist[2],
+                                      camera.dist[3], camera.dist[4]);
+    cv::undistortPoints(
+        pixels, rays_.reshape(2, static_cast<int>(rays_.total())), K, dist, cv::noArray(),
+        cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
   }
 }
 
@@ -82,8 +88,10 @@ bool ViewRenderer::prepare(const Primitive& p, Prepared& q) const {
     q.ua = static_cast<float>((b - a).dot(a));
     // The capsule is the convex hull of its end spheres; so is its projection.
     double ax0, ax1, ay0, ay1, bx0, bx1, by0, by1;
-    bounded = sphere_extent(a, p.r, ax0, ax1, ay0, ay1) && sphere_extent(b, p.r, bx0, bx1, by0, by1);
-    x0 = std::min(ax0, bx0), x1 = std::max(ax1, bx1), y0 = std::min(ay0, by0), y1 = std::max(ay1, by1);
+    bounded =
+        sphere_extent(a, p.r, ax0, ax1, ay0, ay1) && sphere_extent(b, p.r, bx0, bx1, by0, by1);
+    x0 = std::min(ax0, bx0), x1 = std::max(ax1, bx1), y0 = std::min(ay0, by0),
+    y1 = std::max(ay1, by1);
   } else {
     const Eigen::Vector3d centre = c.R * p.a + c.t;
     const Eigen::Matrix3d M = (c.R * p.axes).inverse();
@@ -107,10 +115,12 @@ bool ViewRenderer::prepare(const Primitive& p, Prepared& q) const {
     constexpr int kSteps = 16;
     for (int i = 0; i <= kSteps; ++i) {
       const double f = static_cast<double>(i) / kSteps;
-      for (const Eigen::Vector2d& xn : {Eigen::Vector2d(x0 + f * (x1 - x0), y0), Eigen::Vector2d(x0 + f * (x1 - x0), y1),
-                                       Eigen::Vector2d(x0, y0 + f * (y1 - y0)), Eigen::Vector2d(x1, y0 + f * (y1 - y0))}) {
+      for (const Eigen::Vector2d& xn :
+           {Eigen::Vector2d(x0 + f * (x1 - x0), y0), Eigen::Vector2d(x0 + f * (x1 - x0), y1),
+            Eigen::Vector2d(x0, y0 + f * (y1 - y0)), Eigen::Vector2d(x1, y0 + f * (y1 - y0))}) {
         const Eigen::Vector2d px = c.distort_normalised(xn);
-        u0 = std::min(u0, px.x()), u1 = std::max(u1, px.x()), v0 = std::min(v0, px.y()), v1 = std::max(v1, px.y());
+        u0 = std::min(u0, px.x()), u1 = std::max(u1, px.x()), v0 = std::min(v0, px.y()),
+        v1 = std::max(v1, px.y());
       }
     }
     u0 -= 2, v0 -= 2, u1 += 2, v1 += 2;
@@ -126,7 +136,8 @@ bool ViewRenderer::prepare(const Primitive& p, Prepared& q) const {
 }
 
 template <bool kLayers>
-void ViewRenderer::raster(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat* material, cv::Mat* facing) {
+void ViewRenderer::raster(const std::vector<Primitive>& primitives, cv::Mat& mask,
+                          cv::Mat* material, cv::Mat* facing) {
   const int W = camera_.width, H = camera_.height;
   mask.create(H, W, CV_8UC1);
   mask.setTo(0);
@@ -194,8 +205,8 @@ void ViewRenderer::render_mask(const std::vector<Primitive>& primitives, cv::Mat
   raster<false>(primitives, mask, nullptr, nullptr);
 }
 
-void ViewRenderer::render_layers(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat& material,
-                                 cv::Mat& facing) {
+void ViewRenderer::render_layers(const std::vector<Primitive>& primitives, cv::Mat& mask,
+                                 cv::Mat& material, cv::Mat& facing) {
   raster<true>(primitives, mask, &material, &facing);
 }
 

@@ -19,7 +19,9 @@ uint32_t hash3(int a, int b, int c) {
   h *= 0x5bd1e995u;
   return h ^ (h >> 15);
 }
-double unit(uint32_t h) { return (h & 0xffffff) / double(0x1000000); }
+double unit(uint32_t h) {
+  return (h & 0xffffff) / double(0x1000000);
+}
 
 // Does the segment p + t d, t in (0, 1), hit the primitive? (Shadow rays.)
 bool segment_hits(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Primitive& q) {
@@ -29,7 +31,8 @@ bool segment_hits(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Prim
   if ((c - tc * d).squaredNorm() > q.bound_radius() * q.bound_radius()) return false;
   if (q.kind == Primitive::Kind::Capsule) {
     const Eigen::Vector3d A = q.a - p, u = q.b - q.a;
-    const double a = u.squaredNorm(), b = u.dot(d), cc = d.squaredNorm(), e = A.dot(d), f = u.dot(A);
+    const double a = u.squaredNorm(), b = u.dot(d), cc = d.squaredNorm(), e = A.dot(d),
+                 f = u.dot(A);
     const double den = a * cc - b * b;
     const double s = std::clamp(den > 1e-9 * a * cc ? (b * e - cc * f) / den : 0.0, 0.0, 1.0);
     const double t = std::clamp((e + s * b) / cc, 0.0, 1.0);
@@ -47,32 +50,41 @@ bool segment_hits(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Prim
 }  // namespace
 
 namespace {
-constexpr int kNoiseMargin = 32;      // the noise bank is this much larger than the image
+constexpr int kNoiseMargin = 32;         // the noise bank is this much larger than the image
 constexpr float kNoiseScale = 1 / 64.f;  // grey levels per unit of the 16-bit noise bank
 // The shadow map holds the floor, then the four walls (x = +R, y = +R, x = -R, y = -R), stacked
 // vertically with a gap so that the blur does not bleed between them.
 constexpr int kGap = 4;
 std::array<Eigen::Vector3d, 5> plane_normals() {
-  return {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 0, 0),
-          Eigen::Vector3d(0, 1, 0)};
+  return {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0),
+          Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
 }
 }  // namespace
 
 Scene::Scene(const SceneOptions& options, uint64_t seed) : options_(options), seed_(seed) {
-  HULLPOSE_THROW_UNLESS(options.room_half_mm > 1000 && options.room_height_mm > 2500 && options.shadow_texel_mm >= 10,
-                        "scene: room too small or shadow texels too fine");
+  HULLPOSE_THROW_UNLESS(
+      options.room_half_mm > 1000 && options.room_height_mm > 2500 && options.shadow_texel_mm >= 10,
+      "scene: room too small or shadow texels too fine");
   std::mt19937_64 rng(draw_seed(seed, -1, -1, 100));
   auto pick = [&](std::initializer_list<cv::Vec3f> choices) {
     std::uniform_int_distribution<size_t> u(0, choices.size() - 1);
     return *(choices.begin() + u(rng));
   };
   // BGR.
-  palette_[static_cast<size_t>(Material::Skin)] = pick({{150, 180, 225}, {110, 140, 190}, {70, 95, 140}, {60, 75, 100}});
-  palette_[static_cast<size_t>(Material::Hair)] = pick({{20, 25, 30}, {30, 60, 100}, {90, 150, 200}, {40, 40, 45}});
-  palette_[static_cast<size_t>(Material::Shirt)] =
-      pick({{40, 40, 200}, {180, 80, 30}, {40, 160, 40}, {200, 200, 200}, {30, 140, 220}, {140, 40, 120}});
-  palette_[static_cast<size_t>(Material::Trousers)] = pick({{90, 50, 20}, {40, 40, 40}, {120, 140, 150}, {60, 90, 60}});
-  palette_[static_cast<size_t>(Material::Shoes)] = pick({{25, 25, 25}, {230, 230, 230}, {40, 60, 110}});
+  palette_[static_cast<size_t>(Material::Skin)] =
+      pick({{150, 180, 225}, {110, 140, 190}, {70, 95, 140}, {60, 75, 100}});
+  palette_[static_cast<size_t>(Material::Hair)] =
+      pick({{20, 25, 30}, {30, 60, 100}, {90, 150, 200}, {40, 40, 45}});
+  palette_[static_cast<size_t>(Material::Shirt)] = pick({{40, 40, 200},
+                                                         {180, 80, 30},
+                                                         {40, 160, 40},
+                                                         {200, 200, 200},
+                                                         {30, 140, 220},
+                                                         {140, 40, 120}});
+  palette_[static_cast<size_t>(Material::Trousers)] =
+      pick({{90, 50, 20}, {40, 40, 40}, {120, 140, 150}, {60, 90, 60}});
+  palette_[static_cast<size_t>(Material::Shoes)] =
+      pick({{25, 25, 25}, {230, 230, 230}, {40, 60, 110}});
   // A ceiling lamp (floor shadows) and a side lamp (wall shadows).
   const double R = options.room_half_mm;
   lights_ = {{0.2 * R, -0.15 * R, options.room_height_mm - 300}, {-0.7 * R, -0.45 * R, 2500}};
@@ -104,11 +116,16 @@ void Scene::shadows(const std::vector<Primitive>& primitives, cv::Mat& atlas) co
     auto world = [&](double c, double r) -> Eigen::Vector3d {
       const double a = -R + (c + 0.5) * s, b = tile == 0 ? -R + (r + 0.5) * s : (r + 0.5) * s;
       switch (tile) {
-        case 0: return {a, b, 0};
-        case 1: return {R, a, b};
-        case 2: return {a, R, b};
-        case 3: return {-R, a, b};
-        default: return {a, -R, b};
+        case 0:
+          return {a, b, 0};
+        case 1:
+          return {R, a, b};
+        case 2:
+          return {a, R, b};
+        case 3:
+          return {-R, a, b};
+        default:
+          return {a, -R, b};
       }
     };
     auto texel = [&](const Eigen::Vector3d& p) -> Eigen::Vector2d {
@@ -122,9 +139,11 @@ void Scene::shadows(const std::vector<Primitive>& primitives, cv::Mat& atlas) co
       if ((L - on_plane).dot(normal) <= 0) continue;  // the lamp is behind this surface
       double c0 = 0, c1 = n - 1, r0 = 0, r1 = rows - 1;
       int hits = 0;
-      Eigen::Vector2d tlo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), thi = -tlo;
+      Eigen::Vector2d tlo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
+                      thi = -tlo;
       for (int k = 0; k < 8; ++k) {
-        const Eigen::Vector3d corner((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+        const Eigen::Vector3d corner((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(),
+                                     (k & 4) ? hi.z() : lo.z());
         const Eigen::Vector3d d = corner - L;
         const double along = d.dot(normal);
         const double t = along < 0 ? (on_plane - L).dot(normal) / along : -1;
@@ -165,7 +184,8 @@ Scene::Backdrop Scene::backdrop(const ViewRenderer& view) const {
   b.shadow_map.create(cam.height, cam.width, CV_32FC2);
   const Eigen::Vector3d o = cam.centre();
   const Eigen::Matrix3d Rt = cam.R.transpose();
-  static const cv::Vec3f kWalls[4] = {{170, 185, 195}, {150, 170, 160}, {185, 175, 160}, {160, 160, 175}};
+  static const cv::Vec3f kWalls[4] = {
+      {170, 185, 195}, {150, 170, 160}, {185, 175, 160}, {160, 160, 175}};
   for (int v = 0; v < cam.height; ++v) {
     auto* colour = b.colour.ptr<cv::Vec3f>(v);
     auto* map = b.shadow_map.ptr<cv::Vec2f>(v);
@@ -189,13 +209,17 @@ Scene::Backdrop Scene::backdrop(const ViewRenderer& view) const {
       double a = 0, z = 0;  // coordinates along the surface (mm)
       if (plane == 0) {
         // Floor: 500 mm tiles with grout and per-tile tint, plus a fine mottle.
-        const int ix = static_cast<int>(std::floor(p.x() / 500)), iy = static_cast<int>(std::floor(p.y() / 500));
+        const int ix = static_cast<int>(std::floor(p.x() / 500)),
+                  iy = static_cast<int>(std::floor(p.y() / 500));
         const double fx = p.x() - 500 * ix, fy = p.y() - 500 * iy;
         const double tint = 20 * unit(hash3(ix, iy, 1)) - 10;
-        const double mottle = 12 * unit(hash3(static_cast<int>(std::floor(p.x() / 70)), static_cast<int>(std::floor(p.y() / 70)), 2)) - 6;
+        const double mottle = 12 * unit(hash3(static_cast<int>(std::floor(p.x() / 70)),
+                                              static_cast<int>(std::floor(p.y() / 70)), 2)) -
+                              6;
         const bool grout = fx < 12 || fy < 12;
         const double g = grout ? 95 : 150 + tint + mottle;
-        c = cv::Vec3f(static_cast<float>(g * 0.92), static_cast<float>(g), static_cast<float>(g * 1.05));
+        c = cv::Vec3f(static_cast<float>(g * 0.92), static_cast<float>(g),
+                      static_cast<float>(g * 1.05));
         a = p.x(), z = p.y();
       } else if (plane == 5) {
         c = cv::Vec3f(205, 205, 205);
@@ -203,18 +227,22 @@ Scene::Backdrop Scene::backdrop(const ViewRenderer& view) const {
         a = plane == 1 || plane == 3 ? p.y() : p.x();
         z = p.z();
         c = kWalls[plane - 1];
-        const int ia = static_cast<int>(std::floor(a / 1000)), iz = static_cast<int>(std::floor(z / 1000));
+        const int ia = static_cast<int>(std::floor(a / 1000)),
+                  iz = static_cast<int>(std::floor(z / 1000));
         const double fa = a - 1000 * ia, fz = z - 1000 * iz;
         const uint32_t cell = hash3(ia, iz, plane);
         if (z < 150) {
           c = cv::Vec3f(60, 70, 80);  // skirting board
-        } else if (iz >= 1 && iz <= 2 && unit(cell) < 0.35 && fa > 150 && fa < 850 && fz > 150 && fz < 850) {
-          c = cv::Vec3f(static_cast<float>(60 + 150 * unit(hash3(ia, iz, 7))), static_cast<float>(60 + 150 * unit(hash3(ia, iz, 8))),
+        } else if (iz >= 1 && iz <= 2 && unit(cell) < 0.35 && fa > 150 && fa < 850 && fz > 150 &&
+                   fz < 850) {
+          c = cv::Vec3f(static_cast<float>(60 + 150 * unit(hash3(ia, iz, 7))),
+                        static_cast<float>(60 + 150 * unit(hash3(ia, iz, 8))),
                         static_cast<float>(60 + 150 * unit(hash3(ia, iz, 9))));  // a poster
         } else if (std::fmod(a + 10 * R, 1200) < 15) {
           c *= 0.8f;  // panel seams
         }
-        c *= static_cast<float>(0.97 + 0.06 * unit(hash3(static_cast<int>(a / 40), static_cast<int>(z / 40), plane + 20)));
+        c *= static_cast<float>(0.97 + 0.06 * unit(hash3(static_cast<int>(a / 40),
+                                                         static_cast<int>(z / 40), plane + 20)));
       }
       colour[u] = c;
       // Shadow-map coordinates of this point (texel centres at integer positions).
@@ -241,13 +269,19 @@ double Scene::gain(int camera, int frame, double t_s) const {
   return g;
 }
 
-CameraRenderer::CameraRenderer(const Motion& motion, const BodyShape& body, const CameraModel& camera, const Scene& scene,
-                               double fps)
-    : motion_(motion), body_(body), scene_(scene), fps_(fps), view_(camera), backdrop_(scene.backdrop(view_)) {
+CameraRenderer::CameraRenderer(const Motion& motion, const BodyShape& body,
+                               const CameraModel& camera, const Scene& scene, double fps)
+    : motion_(motion),
+      body_(body),
+      scene_(scene),
+      fps_(fps),
+      view_(camera),
+      backdrop_(scene.backdrop(view_)) {
   HULLPOSE_THROW_UNLESS(fps > 0, "frame rate must be positive");
   noise_.create(camera.height + kNoiseMargin, camera.width + kNoiseMargin, CV_16SC3);
   cv::RNG rng(draw_seed(scene.seed(), camera.id, -1, 102));
-  rng.fill(noise_, cv::RNG::NORMAL, 0, scene.options().noise_sigma / static_cast<double>(kNoiseScale));
+  rng.fill(noise_, cv::RNG::NORMAL, 0,
+           scene.options().noise_sigma / static_cast<double>(kNoiseScale));
 }
 
 void CameraRenderer::render(int frame, cv::Mat& bgr, cv::Mat& mask) {
@@ -261,7 +295,8 @@ void CameraRenderer::render(int frame, cv::Mat& bgr, cv::Mat& mask) {
 void CameraRenderer::render_posed(int frame, double t_s, const std::vector<Primitive>& primitives,
                                   const cv::Mat& shadow_atlas, cv::Mat& bgr, cv::Mat& mask) {
   view_.render_layers(primitives, mask, material_, facing_);
-  cv::remap(shadow_atlas, shadow_, backdrop_.shadow_map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  cv::remap(shadow_atlas, shadow_, backdrop_.shadow_map, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT, 0);
   compose(frame, t_s, true, bgr);
 }
 
@@ -279,7 +314,8 @@ void CameraRenderer::render_dark(int frame, cv::Mat& bgr) {
   std::mt19937_64 rng(draw_seed(scene_.seed(), c.id, frame, 103));
   std::uniform_int_distribution<int> offset(0, kNoiseMargin);
   // Saturates: black plus the positive half of the noise.
-  noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height)).convertTo(bgr, CV_8UC3, static_cast<double>(kNoiseScale));
+  noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height))
+      .convertTo(bgr, CV_8UC3, static_cast<double>(kNoiseScale));
 }
 
 void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {
@@ -293,7 +329,8 @@ void CameraRenderer::compose(int frame, double t_s, bool person, cv::Mat& bgr) {
   const cv::Mat noise_window = noise_(cv::Rect(offset(rng), offset(rng), c.width, c.height));
   bgr.create(c.height, c.width, CV_8UC3);
   std::array<cv::Vec3f, kNumMaterials> palette;
-  for (int m = 0; m < kNumMaterials; ++m) palette[static_cast<size_t>(m)] = scene_.colour(static_cast<Material>(m));
+  for (int m = 0; m < kNumMaterials; ++m)
+    palette[static_cast<size_t>(m)] = scene_.colour(static_cast<Material>(m));
   for (int v = 0; v < c.height; ++v) {
     const auto* base = backdrop_.colour.ptr<cv::Vec3f>(v);
     const auto* shadow = shadow_.ptr<float>(v);

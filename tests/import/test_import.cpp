@@ -12,6 +12,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/dataset.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/import/cli.hpp"
 #include "hullpose/import/pattern.hpp"
 #include "hullpose/import/rig_import.hpp"
@@ -64,7 +65,9 @@ int run(const std::vector<std::string>& args, std::string& out, std::string& err
   std::vector<const char*> argv{"hullpose-import"};
   for (const auto& a : args) argv.push_back(a.c_str());
   std::ostringstream o, e;
-  const int rc = run_cli(static_cast<int>(argv.size()), argv.data(), o, e);
+  const int rc = run_tool(
+      "hullpose-import", static_cast<int>(argv.size()), argv.data(),
+      [&o](int c, const char* const* v) { return run_cli(c, v, o); }, e);
   out = o.str();
   err = e.str();
   return rc;
@@ -82,14 +85,19 @@ TEST_CASE("patterns expand camera and frame numbers, padded to the field's width
 TEST_CASE("known K, R, t -> P -> back, at any scale and sign, with the skew reported") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
+  // Draws in sequence (constructor arguments are evaluated in an unspecified order).
+  auto u3 = [&] {
+    const double x = u(rng), y = u(rng);
+    return Eigen::Vector3d(x, y, u(rng));
+  };
   for (int trial = 0; trial < 50; ++trial) {
     Eigen::Matrix3d K;
     K << 900 + 300 * u(rng), 0.8 * u(rng), 640 + 20 * u(rng), 0, 905 + 300 * u(rng),
         480 + 20 * u(rng), 0, 0, 1;
-    const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(M_PI * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())
-            .toRotationMatrix();
-    const Eigen::Vector3d t(2000 * u(rng), 2000 * u(rng), 3000 + 1000 * u(rng));
+    const double angle = M_PI * u(rng);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, u3().normalized()).toRotationMatrix();
+    const Eigen::Vector3d t =
+        Eigen::Vector3d(2000, 2000, 1000).cwiseProduct(u3()) + Eigen::Vector3d(0, 0, 3000);
     Eigen::Matrix<double, 3, 4> P;
     P << K * R, K * t;
     const double scale = (trial % 2 ? -1 : 1) * std::pow(10.0, 3 * u(rng));
@@ -107,22 +115,27 @@ TEST_CASE("known K, R, t -> P -> back, at any scale and sign, with the skew repo
 TEST_CASE("the source world's units, up axis and floor map onto ours without moving a pixel") {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
+  auto u3 = [&] {
+    const double x = u(rng), y = u(rng);
+    return Eigen::Vector3d(x, y, u(rng));
+  };
   for (const char* up : {"x", "+y", "-y", "z", "-z", "-x"}) {
     const SourceWorld world{1000, parse_axis(up), 0.3};
     const Eigen::Matrix3d A = world.rotation();
     CHECK((A * A.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
     CHECK(A.determinant() == Approx(1));
     CHECK((A * world.up - Eigen::Vector3d::UnitZ()).norm() < 1e-12);  // their up is our z
-    const Eigen::Matrix3d R_src =
-        Eigen::AngleAxisd(u(rng) * 3, Eigen::Vector3d(u(rng), u(rng), 1).normalized())
-            .toRotationMatrix();
-    const Eigen::Vector3d t_src(u(rng), u(rng), 4 + u(rng));  // metres
+    const double angle = 3 * u(rng);
+    Eigen::Vector3d axis = u3();
+    axis.z() = 1;
+    const Eigen::Matrix3d R_src = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+    const Eigen::Vector3d t_src = u3() + Eigen::Vector3d(0, 0, 4);  // metres
     CameraModel c;
     c.fx = c.fy = 1000;
     c.width = c.height = 100000;
     world.convert(R_src, t_src, c.R, c.t);
     for (int i = 0; i < 10; ++i) {
-      const Eigen::Vector3d x_src(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d x_src = u3();
       const Eigen::Vector3d cam_src = R_src * x_src + t_src;
       const Eigen::Vector3d x_ours = 1000 * (A * x_src) - Eigen::Vector3d(0, 0, 300);
       CHECK((c.R * x_ours + c.t - 1000 * cam_src).norm() < 1e-9);

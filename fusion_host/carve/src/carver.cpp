@@ -32,7 +32,7 @@ VoxelProjector::VoxelProjector(const CameraModel& c) {
 
 namespace {
 
-constexpr int kLevels = 4;      // node sizes F, 2F, 4F, 8F voxels; the top level are the cells
+constexpr int kLevels = 4;  // node sizes F, 2F, 4F, 8F voxels; the top level are the cells
 constexpr int kMaxCameras = 64;
 constexpr int kMaxFinestVoxels = 512;  // finest nodes of up to 8³ voxels (resolution < 576)
 // Per-voxel pixel tables (2 bytes per voxel and camera) up to this size; beyond, voxels of
@@ -62,8 +62,8 @@ struct Rect {
 }  // namespace
 
 struct Carver::Precomputed {
-  int finest = 2;                         // F
-  std::array<Eigen::Vector3i, kLevels> nodes;  // node counts per level
+  int finest = 2;                                // F
+  std::array<Eigen::Vector3i, kLevels> nodes;    // node counts per level
   std::array<std::vector<Rect>, kLevels> rects;  // [node * cameras + camera]
   // Optional: the pixel of every voxel centre relative to its finest node's rectangle,
   // (dy << 8 | dx), or kUnseen; [(node * cameras + camera) * F³ + voxel in node].
@@ -81,7 +81,8 @@ struct Carver::Precomputed {
     const size_t cell = (static_cast<size_t>(z >> up) * top.y() + (y >> up)) * top.x() + (x >> up);
     size_t morton = 0;
     for (int b = 0; b < up; ++b)
-      morton |= static_cast<size_t>((x >> b & 1) | (y >> b & 1) << 1 | (z >> b & 1) << 2) << (3 * b);
+      morton |= static_cast<size_t>((x >> b & 1) | (y >> b & 1) << 1 | (z >> b & 1) << 2)
+                << (3 * b);
     return cell << (3 * up) | morton;
   }
 };
@@ -100,19 +101,25 @@ cv::Rect foreground_box(const cv::Mat& view, std::span<const PixelRoi> fg_boxes,
 }
 
 Carver::Carver(const Rig& rig, const CarveOptions& options)
-    : rig_(rig), options_(options), pre_(std::make_unique<Precomputed>()), frame_(std::make_unique<Frame>()) {
+    : rig_(rig),
+      options_(options),
+      pre_(std::make_unique<Precomputed>()),
+      frame_(std::make_unique<Frame>()) {
   rig_.validate();
   const int ncam = static_cast<int>(rig_.cameras.size());
   HULLPOSE_THROW_UNLESS(ncam >= 1 && ncam <= kMaxCameras,
-                        "carve: rig '" << rig_.rig_id << "' has " << ncam << " cameras, supported 1.." << kMaxCameras);
+                        "carve: rig '" << rig_.rig_id << "' has " << ncam
+                                       << " cameras, supported 1.." << kMaxCameras);
   HULLPOSE_THROW_UNLESS(options.tolerance >= 0 && options.tolerance < ncam,
-                        "carve: tolerance " << options.tolerance << " must be in 0.." << ncam - 1 << " for rig '"
-                                            << rig_.rig_id << "'");
-  HULLPOSE_THROW_UNLESS(options.threads >= 1, "carve: threads must be >= 1, got " << options.threads);
+                        "carve: tolerance " << options.tolerance << " must be in 0.." << ncam - 1
+                                            << " for rig '" << rig_.rig_id << "'");
+  HULLPOSE_THROW_UNLESS(options.threads >= 1,
+                        "carve: threads must be >= 1, got " << options.threads);
   grid_ = VoxelGridSpec::fit(rig_.volume, options.resolution);
   for (const CameraModel& c : rig_.cameras) {
-    HULLPOSE_THROW_UNLESS(c.width < INT16_MAX && c.height < INT16_MAX,
-                          "carve: camera " << c.id << " image " << c.width << "x" << c.height << " too large");
+    HULLPOSE_THROW_UNLESS(
+        c.width < INT16_MAX && c.height < INT16_MAX,
+        "carve: camera " << c.id << " image " << c.width << "x" << c.height << " too large");
     projectors_.emplace_back(c);
   }
 
@@ -154,7 +161,8 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
     p.pixels.assign(fine.size() * f3, kUnseen);
     p.wide.assign(fine.size(), 0);
     for (size_t i = 0; i < fine.size(); ++i)
-      p.wide[i] = fine[i].x0 <= fine[i].x1 && (fine[i].x1 - fine[i].x0 > 254 || fine[i].y1 - fine[i].y0 > 254);
+      p.wide[i] = fine[i].x0 <= fine[i].x1 &&
+                  (fine[i].x1 - fine[i].x0 > 254 || fine[i].y1 - fine[i].y0 > 254);
 #pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
     for (int nz = 0; nz < p.nodes[0].z(); ++nz)
       for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
@@ -162,12 +170,14 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
           for (int x = 0; x < d.x(); ++x) {
             const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
             const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
-            const size_t local = static_cast<size_t>(((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
+            const size_t local = static_cast<size_t>(
+                ((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
             for (int c = 0; c < ncam; ++c) {
               const size_t nc = node * static_cast<size_t>(ncam) + static_cast<size_t>(c);
               int px, py;
               if (!p.wide[nc] && projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
-                p.pixels[nc * f3 + local] = static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
+                p.pixels[nc * f3 + local] =
+                    static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
             }
           }
   }
@@ -177,10 +187,12 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
       for (int y = 0; y < m.y(); ++y)
         for (int x = 0; x < m.x(); ++x)
           for (int c = 0; c < ncam; ++c)
-            p.rects[static_cast<size_t>(l)][p.node_index(l, x / 2, y / 2, z / 2) * static_cast<size_t>(ncam) +
-                                            static_cast<size_t>(c)]
-                .add(p.rects[static_cast<size_t>(l - 1)][p.node_index(l - 1, x, y, z) * static_cast<size_t>(ncam) +
-                                                         static_cast<size_t>(c)]);
+            p.rects[static_cast<size_t>(l)]
+                   [p.node_index(l, x / 2, y / 2, z / 2) * static_cast<size_t>(ncam) +
+                    static_cast<size_t>(c)]
+                       .add(p.rects[static_cast<size_t>(l - 1)]
+                                   [p.node_index(l - 1, x, y, z) * static_cast<size_t>(ncam) +
+                                    static_cast<size_t>(c)]);
   }
 
   Frame& f = *frame_;
@@ -197,10 +209,11 @@ Carver::~Carver() = default;
 
 HULLPOSE_LOG_CATEGORY(Carve, "carve")
 
-void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const {
-  HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(), "carve: " << views.size() << " views for the "
-                                                                         << rig_.cameras.size() << " cameras of rig '"
-                                                                         << rig_.rig_id << "'");
+void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report,
+                         std::vector<int>& present) const {
+  HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(),
+                        "carve: " << views.size() << " views for the " << rig_.cameras.size()
+                                  << " cameras of rig '" << rig_.rig_id << "'");
   report.missing_cameras.clear();
   report.rejected_cameras.clear();
   present.clear();
@@ -211,9 +224,9 @@ void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, st
       report.missing_cameras.push_back(cam.id);
     } else if (m.type() != CV_8UC1 || m.cols != cam.width || m.rows != cam.height) {
       report.rejected_cameras.push_back(cam.id);
-      HULLPOSE_LOG(Carve, Debug) << "camera " << cam.id << ": mask " << m.cols << "x" << m.rows << " of type "
-                                 << m.type() << " skipped (the rig says " << cam.width << "x" << cam.height
-                                 << " CV_8UC1)";
+      HULLPOSE_LOG(Carve, Debug) << "camera " << cam.id << ": mask " << m.cols << "x" << m.rows
+                                 << " of type " << m.type() << " skipped (the rig says "
+                                 << cam.width << "x" << cam.height << " CV_8UC1)";
     } else {
       present.push_back(static_cast<int>(c));
     }
@@ -221,11 +234,12 @@ void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report, st
   report.cameras_used = static_cast<int>(present.size());
   report.valid = report.cameras_used > options_.tolerance;
   HULLPOSE_LOG(Carve, Debug) << report.cameras_used << " of " << views.size() << " cameras carve, "
-                             << report.missing_cameras.size() << " sent nothing, " << report.rejected_cameras.size()
-                             << " rejected";
+                             << report.missing_cameras.size() << " sent nothing, "
+                             << report.rejected_cameras.size() << " rejected";
 }
 
-void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report) const {
+void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull,
+                               CarveReport& report) const {
   std::vector<int> present;
   check_views(views, report, present);
   hull.reset(grid_.dims);
@@ -243,12 +257,167 @@ void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& 
     for (int y = 0; y < grid_.dims.y(); ++y)
       for (int x = 0; x < grid_.dims.x(); ++x) {
         const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
-        if (voxel_kept(cams.data(), masks.data(), n, options_.tolerance, centre.x(), centre.y(), centre.z())) {
+        if (voxel_kept(cams.data(), masks.data(), n, options_.tolerance, centre.x(), centre.y(),
+                       centre.z())) {
           hull.set(x, y, z);
           ++report.voxels;
         }
       }
 }
+
+// One frame's depth-first visit of the octree (Carver::carve): a node's cameras are classified
+// (classify_node), a decided node is filled or dropped, an undecided one split, and at the finest
+// level its voxels are tested camera by camera (carve_finest_node).
+class Carver::NodeVisit {
+ public:
+  NodeVisit(const Carver& carver, const Frame& frame, fusion::BitGrid& hull)
+      : carver_(carver),
+        pre_(*carver.pre_),
+        frame_(frame),
+        hull_(hull),
+        ncam_(carver.rig_.cameras.size()),
+        f3_(static_cast<size_t>(pre_.finest) * pre_.finest * pre_.finest),
+        k_(carver.options_.tolerance),
+        dims_(carver.grid_.dims) {}
+
+  // `mixed` holds the cameras still undecided for this node; `base_miss` the misses so far.
+  void visit(int level, const Eigen::Vector3i& node, int base_miss, const int* mixed,
+             int nmixed) const {
+    const int s = pre_.size(level);
+    const Eigen::Vector3i lo = node * s;
+    if ((lo.array() >= dims_.array()).any()) return;
+    const Eigen::Vector3i hi = (lo.array() + s).min(dims_.array());
+    const Rect* rects = &pre_.rects[static_cast<size_t>(level)]
+                                   [pre_.node_index(level, node.x(), node.y(), node.z()) * ncam_];
+    std::array<int, kMaxCameras> still;
+    int nstill = 0;
+    if (!classify_node(rects, mixed, nmixed, base_miss, still, nstill)) return;  // missed too often
+    if (base_miss + nstill <= k_) {
+      fill(lo, hi);  // inside in all but k cameras, whatever the undecided ones say
+      return;
+    }
+    if (level > 0) {
+      for (int cz = 0; cz < 2; ++cz)
+        for (int cy = 0; cy < 2; ++cy)
+          for (int cx = 0; cx < 2; ++cx)
+            visit(level - 1, node * 2 + Eigen::Vector3i(cx, cy, cz), base_miss, still.data(),
+                  nstill);
+      return;
+    }
+    carve_finest_node(node, lo, hi, rects, base_miss, still.data(), nstill);
+  }
+
+ private:
+  // kAll also needs every voxel centre of the node seen by the camera.
+  Coverage classify(const Rect& r, int c) const {
+    if (r.x0 > r.x1) return Coverage::kNone;  // no voxel centre is seen at all
+    const Coverage v = frame_.counts[static_cast<size_t>(c)].cover(r.x0, r.y0, r.x1, r.y1);
+    return r.unseen && v == Coverage::kAll ? Coverage::kSome : v;
+  }
+
+  // Sorts the node's undecided cameras into misses (counted) and still undecided ones; false once
+  // more than k cameras miss the whole node.
+  bool classify_node(const Rect* rects, const int* mixed, int nmixed, int& base_miss,
+                     std::array<int, kMaxCameras>& still, int& nstill) const {
+    for (int i = 0; i < nmixed; ++i) {
+      const int c = mixed[i];
+      switch (classify(rects[c], c)) {
+        case Coverage::kAll:
+          break;
+        case Coverage::kNone:
+          if (++base_miss > k_) return false;
+          break;
+        case Coverage::kSome:
+          still[static_cast<size_t>(nstill++)] = c;
+          break;
+      }
+    }
+    return true;
+  }
+
+  void fill(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) const {  // [lo, hi)
+    for (int z = lo.z(); z < hi.z(); ++z)
+      for (int y = lo.y(); y < hi.y(); ++y) {
+        uint64_t* row = hull_.row(y, z);
+        for (int x = lo.x(); x < hi.x(); ++x) row[x >> 6] |= uint64_t{1} << (x & 63);
+      }
+  }
+
+  // Finest node: camera by camera over its voxels (the setup of a camera is paid once per node,
+  // and a camera that misses every voxel still alive ends the node at once).
+  void carve_finest_node(const Eigen::Vector3i& node, const Eigen::Vector3i& lo,
+                         const Eigen::Vector3i& hi, const Rect* rects, int base_miss,
+                         const int* still, int nstill) const {
+    const int s = pre_.finest;
+    const size_t node_cams = pre_.node_index(0, node.x(), node.y(), node.z()) * ncam_;
+    std::array<uint8_t, kMaxFinestVoxels> misses;
+    std::array<uint16_t, kMaxFinestVoxels> alive;
+    std::fill_n(misses.begin(), f3_, static_cast<uint8_t>(base_miss));
+    size_t nalive = 0;
+    for (int z = 0; z < hi.z() - lo.z(); ++z)
+      for (int y = 0; y < hi.y() - lo.y(); ++y)
+        for (int x = 0; x < hi.x() - lo.x(); ++x)
+          alive[nalive++] = static_cast<uint16_t>((z * s + y) * s + x);
+    for (int i = 0; i < nstill && nalive > 0; ++i) {
+      const int c = still[i];
+      const size_t nc = node_cams + static_cast<size_t>(c);
+      nalive = !pre_.pixels.empty() && !pre_.wide[nc]
+                   ? test_from_table(c, nc, rects[c], misses, alive, nalive)
+                   : test_projected(c, lo, misses, alive, nalive);
+    }
+    for (size_t a = 0; a < nalive; ++a) {
+      const uint16_t local = alive[a];
+      const int x = lo.x() + local % s, y = lo.y() + local / s % s, z = lo.z() + local / (s * s);
+      hull_.row(y, z)[x >> 6] |= uint64_t{1} << (x & 63);
+    }
+  }
+
+  // The alive voxels' pixels from the per-voxel table; keeps those that hit or may still miss.
+  size_t test_from_table(int c, size_t nc, const Rect& rect,
+                         std::array<uint8_t, kMaxFinestVoxels>& misses,
+                         std::array<uint16_t, kMaxFinestVoxels>& alive, size_t nalive) const {
+    const size_t step = frame_.steps[static_cast<size_t>(c)];
+    const uint8_t* origin =
+        frame_.bases[static_cast<size_t>(c)] + static_cast<size_t>(rect.y0) * step + rect.x0;
+    const uint16_t* pix = &pre_.pixels[nc * f3_];
+    size_t kept = 0;
+    for (size_t a = 0; a < nalive; ++a) {
+      const uint16_t local = alive[a];
+      const uint16_t v = pix[local];
+      const bool hit = v != kUnseen && origin[(v >> 8) * step + (v & 0xff)] != 0;
+      if (hit || ++misses[local] <= k_) alive[kept++] = local;
+    }
+    return kept;
+  }
+
+  // The same with each voxel projected now (grids whose table would be too large).
+  size_t test_projected(int c, const Eigen::Vector3i& lo,
+                        std::array<uint8_t, kMaxFinestVoxels>& misses,
+                        std::array<uint16_t, kMaxFinestVoxels>& alive, size_t nalive) const {
+    const int s = pre_.finest;
+    const size_t step = frame_.steps[static_cast<size_t>(c)];
+    const uint8_t* base = frame_.bases[static_cast<size_t>(c)];
+    size_t kept = 0;
+    for (size_t a = 0; a < nalive; ++a) {
+      const uint16_t local = alive[a];
+      const Eigen::Vector3i v = lo + Eigen::Vector3i(local % s, local / s % s, local / (s * s));
+      int px, py;
+      const bool hit =
+          carver_.projectors_[static_cast<size_t>(c)].pixel(carver_.grid_.centre_mm(v), px, py) &&
+          base[static_cast<size_t>(py) * step + static_cast<size_t>(px)] != 0;
+      if (hit || ++misses[local] <= k_) alive[kept++] = local;
+    }
+    return kept;
+  }
+
+  const Carver& carver_;
+  const Precomputed& pre_;
+  const Frame& frame_;
+  fusion::BitGrid& hull_;
+  const size_t ncam_, f3_;
+  const int k_;
+  const Eigen::Vector3i dims_;
+};
 
 void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report,
                    std::span<const PixelRoi> fg_boxes) {
@@ -257,10 +426,9 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
   hull.reset(grid_.dims);
   report.voxels = 0;
   if (!report.valid) return;
-  HULLPOSE_THROW_UNLESS(fg_boxes.empty() || fg_boxes.size() == views.size(),
-                        "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
-  const int ncam = static_cast<int>(rig_.cameras.size());
-
+  HULLPOSE_THROW_UNLESS(
+      fg_boxes.empty() || fg_boxes.size() == views.size(),
+      "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
   // Column counts of each silhouette over its foreground box only (outside it is background).
   for (int c : f.present) {
     const cv::Mat& m = views[static_cast<size_t>(c)];
@@ -268,114 +436,16 @@ void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveR
     f.bases[static_cast<size_t>(c)] = m.ptr<uint8_t>(0);
     f.steps[static_cast<size_t>(c)] = m.step[0];
   }
-
-  const Precomputed& p = *pre_;
-  const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
-  const int k = options_.tolerance;
-  const Eigen::Vector3i dims = grid_.dims;
-
-  // kAll also needs every voxel centre of the node seen by the camera.
-  auto classify = [&](const Rect& r, int c) {
-    if (r.x0 > r.x1) return Coverage::kNone;  // no voxel centre is seen at all
-    const Coverage v = f.counts[static_cast<size_t>(c)].cover(r.x0, r.y0, r.x1, r.y1);
-    return r.unseen && v == Coverage::kAll ? Coverage::kSome : v;
-  };
-
-  auto fill = [&](const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) {  // [lo, hi)
-    for (int z = lo.z(); z < hi.z(); ++z)
-      for (int y = lo.y(); y < hi.y(); ++y) {
-        uint64_t* row = hull.row(y, z);
-        for (int x = lo.x(); x < hi.x(); ++x) row[x >> 6] |= uint64_t{1} << (x & 63);
-      }
-  };
-
-  // Depth-first over one top cell; `mixed` holds the cameras still undecided for this node.
-  auto visit = [&](auto&& self, int level, const Eigen::Vector3i& node, int base_miss, const int* mixed,
-                   int nmixed) -> void {
-    const int s = p.size(level);
-    const Eigen::Vector3i lo = node * s;
-    const Eigen::Vector3i hi = (lo.array() + s).min(dims.array());
-    if ((lo.array() >= dims.array()).any()) return;
-    const Rect* rects = &p.rects[static_cast<size_t>(level)][p.node_index(level, node.x(), node.y(), node.z()) *
-                                                           static_cast<size_t>(ncam)];
-    std::array<int, kMaxCameras> still;
-    int nstill = 0;
-    for (int i = 0; i < nmixed; ++i) {
-      const int c = mixed[i];
-      switch (classify(rects[c], c)) {
-        case Coverage::kAll: break;
-        case Coverage::kNone:
-          if (++base_miss > k) return;
-          break;
-        case Coverage::kSome: still[static_cast<size_t>(nstill++)] = c; break;
-      }
-    }
-    if (base_miss + nstill <= k) {
-      fill(lo, hi);
-      return;
-    }
-    if (level > 0) {
-      for (int cz = 0; cz < 2; ++cz)
-        for (int cy = 0; cy < 2; ++cy)
-          for (int cx = 0; cx < 2; ++cx)
-            self(self, level - 1, Eigen::Vector3i(node * 2 + Eigen::Vector3i(cx, cy, cz)), base_miss, still.data(), nstill);
-      return;
-    }
-    // Finest node: camera by camera over its voxels (the setup of a camera is paid once per node,
-    // and a camera that misses every voxel still alive ends the node at once).
-    const size_t node_cams = p.node_index(0, node.x(), node.y(), node.z()) * static_cast<size_t>(ncam);
-    std::array<uint8_t, kMaxFinestVoxels> misses;
-    std::array<uint16_t, kMaxFinestVoxels> alive_list;
-    std::fill_n(misses.begin(), f3, static_cast<uint8_t>(base_miss));
-    const int nx = hi.x() - lo.x(), ny = hi.y() - lo.y(), nz = hi.z() - lo.z();
-    size_t alive = 0;
-    for (int z = 0; z < nz; ++z)
-      for (int y = 0; y < ny; ++y)
-        for (int x = 0; x < nx; ++x) {
-          alive_list[alive++] = static_cast<uint16_t>((z * s + y) * s + x);
-        }
-    for (int i = 0; i < nstill && alive > 0; ++i) {
-      const int c = still[static_cast<size_t>(i)];
-      const size_t nc = node_cams + static_cast<size_t>(c);
-      const size_t step = f.steps[static_cast<size_t>(c)];
-      size_t kept = 0;
-      if (!p.pixels.empty() && !p.wide[nc]) {
-        const uint8_t* origin = f.bases[static_cast<size_t>(c)] + static_cast<size_t>(rects[c].y0) * step + rects[c].x0;
-        const uint16_t* pix = &p.pixels[nc * f3];
-        for (size_t a = 0; a < alive; ++a) {
-          const uint16_t local = alive_list[a];
-          const uint16_t v = pix[local];
-          const bool hit = v != kUnseen && origin[(v >> 8) * step + (v & 0xff)] != 0;
-          if (hit || ++misses[local] <= k) alive_list[kept++] = local;
-        }
-      } else {
-        const uint8_t* base = f.bases[static_cast<size_t>(c)];
-        for (size_t a = 0; a < alive; ++a) {
-          const uint16_t local = alive_list[a];
-          const Eigen::Vector3i v = lo + Eigen::Vector3i(local % s, local / s % s, local / (s * s));
-          int px, py;
-          const bool hit = projectors_[static_cast<size_t>(c)].pixel(grid_.centre_mm(v), px, py) &&
-                           base[static_cast<size_t>(py) * step + static_cast<size_t>(px)] != 0;
-          if (hit || ++misses[local] <= k) alive_list[kept++] = local;
-        }
-      }
-      alive = kept;
-    }
-    for (size_t a = 0; a < alive; ++a) {
-      const uint16_t local = alive_list[a];
-      const int x = lo.x() + local % s, y = lo.y() + local / s % s, z = lo.z() + local / (s * s);
-      hull.row(y, z)[x >> 6] |= uint64_t{1} << (x & 63);
-    }
-  };
-
+  const NodeVisit visit(*this, f, hull);
   // Threads own whole z-layers of top cells, so no two write the same hull row.
-  const Eigen::Vector3i top = p.nodes[kLevels - 1];
+  const Eigen::Vector3i top = pre_->nodes[kLevels - 1];
   const int* present = f.present.data();
   const int npresent = static_cast<int>(f.present.size());
 #pragma omp parallel for schedule(dynamic) num_threads(options_.threads)
   for (int z = 0; z < top.z(); ++z)
     for (int y = 0; y < top.y(); ++y)
-      for (int x = 0; x < top.x(); ++x) visit(visit, kLevels - 1, Eigen::Vector3i(x, y, z), 0, present, npresent);
+      for (int x = 0; x < top.x(); ++x)
+        visit.visit(kLevels - 1, Eigen::Vector3i(x, y, z), 0, present, npresent);
   report.voxels = hull.count();
 }
 

@@ -61,7 +61,13 @@ ReplaySummary run_replay(const ReplayOptions& options) {
         continue;
       }
       views[c] = cv::imread(mask.string(), cv::IMREAD_GRAYSCALE);
-      HULLPOSE_THROW_UNLESS(!views[c].empty(), mask << ": cannot read the mask");
+      if (views[c].empty()) {  // corrupt or truncated: the camera is missing for this frame
+        counters.add("replay.mask_unreadable");
+        HULLPOSE_LOG(Replay, Warn)
+            << mask.string() << ": unreadable (corrupt or truncated): camera " << rig.cameras[c].id
+            << " missing in frame " << f;
+        continue;
+      }
       HULLPOSE_THROW_UNLESS(
           views[c].cols == rig.cameras[c].width && views[c].rows == rig.cameras[c].height,
           mask << ": the mask is " << views[c].cols << "x" << views[c].rows << ", camera "
@@ -94,6 +100,11 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     }
   }
   writer.flush();
+  for (const auto& [name, count] : counters.snapshot())
+    if (name == "replay.mask_unreadable" && count > 0) {
+      HULLPOSE_LOG(Replay, Warn) << count
+                                 << " unreadable masks: those cameras were missing in those frames";
+    }
   summary.frames = frames;
   summary.carve_ms = median(carve);
   summary.thin_ms = median(thin);

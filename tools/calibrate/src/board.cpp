@@ -95,6 +95,16 @@ std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& boa
   if (!found)
     found = cv::findChessboardCornersSB(grey, board.pattern_size(), corners,
                                         cv::CALIB_CB_NORMALIZE_IMAGE);
+  // A board only a few pixels a square (far away, or lying on the floor seen from the side in a
+  // small image): the detector's kernels need more pixels, so search at twice the size.
+  if (!found && grey.cols < 1000) {
+    cv::Mat twice;
+    cv::pyrUp(grey, twice);
+    found = cv::findChessboardCornersSB(twice, board.pattern_size(), corners,
+                                        cv::CALIB_CB_NORMALIZE_IMAGE);
+    // Double-size x is full-size 2x + 0.5 (pixel centres at integers in both).
+    for (auto& p : corners) p = 0.5f * (p - cv::Point2f(0.5f, 0.5f));
+  }
   if (!found || static_cast<int>(corners.size()) != board.corner_count()) return {};
   // The refinement window must stay inside the four squares around a corner.
   double spacing = std::numeric_limits<double>::infinity();

@@ -272,4 +272,57 @@ IntrinsicsResult IntrinsicsCalibrator::calibrate() const {
   return result;
 }
 
+IntrinsicsResult IntrinsicsCalibrator::with_known(const CameraModel& known) const {
+  HULLPOSE_THROW_UNLESS(!views_.empty(), "camera " << camera_id_ << ": no checkerboard ("
+                                                   << board_.cols << "x" << board_.rows
+                                                   << " inner corners) found in any of its "
+                                                   << seen_ << " images");
+  HULLPOSE_THROW_UNLESS(image_size_ == cv::Size(known.width, known.height),
+                        "camera " << camera_id_ << ": images are " << image_size_.width << "x"
+                                  << image_size_.height << ", the given intrinsics are for "
+                                  << known.width << "x" << known.height);
+  IntrinsicsResult result;
+  result.camera = known;
+  result.camera.id = camera_id_;
+  result.camera.R.setIdentity();
+  result.camera.t.setZero();
+  cv::Mat K = (cv::Mat_<double>(3, 3) << known.fx, 0, known.cx, 0, known.fy, known.cy, 0, 0, 1);
+  cv::Mat dist(1, 5, CV_64F);
+  for (int i = 0; i < 5; ++i) dist.at<double>(i) = known.dist[static_cast<size_t>(i)];
+  cv::Mat cov = cv::Mat::zeros(kCoverageRows, kCoverageCols, CV_8UC1);
+  double sum2 = 0;
+  size_t n = 0;
+  // A view's board pose: the iterative solver (homography start, Levenberg-Marquardt), then LM
+  // again; rms in px. Not IPPE: on a far floor board seen obliquely (tests/calibrate/
+  // test_calibrate_known, camera 1) it returned the wrong one of its two planar solutions.
+  auto pose_of = [&](const std::vector<cv::Point2f>& corners, Eigen::Isometry3d& pose) {
+    cv::Mat rvec, tvec;
+    if (!cv::solvePnP(board_.object_points(), corners, K, dist, rvec, tvec, false,
+                      cv::SOLVEPNP_ITERATIVE))
+      return std::numeric_limits<double>::infinity();
+    cv::solvePnPRefineLM(board_.object_points(), corners, K, dist, rvec, tvec);
+    pose = isometry(rvec, tvec);
+    return view_rms_px(result.camera, pose, board_, corners);
+  };
+  for (const BoardView& view : views_) {
+    Eigen::Isometry3d pose;
+    const double e = pose_of(view.corners, pose);
+    if (!std::isfinite(e)) {
+      result.rejected.push_back(view.view);
+      continue;
+    }
+    result.kept.push_back(view);
+    result.cam_from_board.push_back(pose);
+    result.view_rms_px.push_back(e);
+    sum2 += e * e * static_cast<double>(view.corners.size());
+    n += view.corners.size();
+    mark_coverage(cov, view.corners, board_, image_size_);
+  }
+  HULLPOSE_THROW_UNLESS(!result.kept.empty(),
+                        "camera " << camera_id_ << ": no board pose from the given intrinsics");
+  result.rms_px = std::sqrt(sum2 / static_cast<double>(n));
+  result.coverage = covered_fraction(cov);
+  return result;
+}
+
 }  // namespace hullpose::calibrate

@@ -6,6 +6,7 @@
 
 #include "hullpose/calibrate/options.hpp"
 #include "hullpose/calibrate/rig_calibrator.hpp"
+#include "hullpose/calibrate/rig_compare.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/tool.hpp"
 
@@ -30,6 +31,8 @@ int run(int argc, const char* const* argv) {
   const CalibrationResult result = calibrator.solve();
   hullpose::save_rig(result.rig, cli.out);
   print_report(std::cout, result);
+  if (!cli.compare.empty())
+    print_difference(std::cout, compare_rigs(result.rig, hullpose::load_rig(cli.compare)));
   if (!cli.report.empty()) {
     std::ofstream report(cli.report);
     HULLPOSE_THROW_UNLESS(report, cli.report.string() << ": cannot write the report");

@@ -30,18 +30,26 @@ std::string usage() {
          "  --rig-id ID              rig id written to the rig file (default: calibrated)\n"
          "  --min-views N            board views a camera needs for its intrinsics (default 8)\n"
          "  --fix-intrinsics         keep the per-camera intrinsics in the bundle adjustment\n"
+         "  --intrinsics RIG.yaml    known intrinsics (by camera id, e.g. hullpose-import rig): "
+         "only the\n"
+         "                           board poses and the extrinsics are estimated; one view per "
+         "camera\n"
+         "                           (the floor board) is enough\n"
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
          "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default "
          "2)\n"
          "  --report FILE            also write the report to FILE\n"
+         "  --compare RIG.yaml       how the result agrees with another calibration of the rig\n"
+         "                           (per camera centre mm, orientation deg, after aligning "
+         "frames)\n"
          "  --quiet                  no per-image feedback\n";
 }
 
 std::optional<CommandLine> parse_command_line(int argc, const char* const* argv) {
   CommandLine cli;
   bool have_board = false, have_square = false, have_floor = false;
-  std::string images, out, report;
+  std::string images, out, report, compare;
   cli::CommandLine line(usage());
   line.option("--images", images)
       .option("--node-config", [&](const std::string& v) { cli.node_configs.emplace_back(v); })
@@ -50,6 +58,12 @@ std::optional<CommandLine> parse_command_line(int argc, const char* const* argv)
       .option("--timeout-ms", cli.live.timeout_ms)
       .option("--out", out)
       .option("--report", report)
+      .option("--compare", compare)
+      .option("--intrinsics",
+              [&](const std::string& v) {
+                for (const CameraModel& c : load_rig(v).cameras)
+                  cli.options.known_intrinsics[c.id] = c;
+              })
       .option("--board",
               [&](const std::string& v) {
                 const auto x = v.find('x');
@@ -85,6 +99,7 @@ std::optional<CommandLine> parse_command_line(int argc, const char* const* argv)
   cli.images = images;
   cli.out = out;
   cli.report = report;
+  cli.compare = compare;
   HULLPOSE_THROW_UNLESS(
       cli.images.empty() != cli.node_configs.empty(),
       "give either --images DIR or --node-config FILE (one per camera), not both (see --help)");

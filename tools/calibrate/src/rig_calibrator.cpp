@@ -108,15 +108,19 @@ namespace {
 
 // solve()'s steps, in order; each hands the next what it needs.
 
-// 1. Intrinsics, every camera on its own; every camera that fails is reported at once.
+// 1. Intrinsics, every camera on its own (or only its board poses where they are known); every
+// camera that fails is reported at once.
 std::vector<IntrinsicsResult> calibrate_intrinsics(
-    const std::map<int, IntrinsicsCalibrator>& cameras, std::vector<int>& ids) {
+    const std::map<int, IntrinsicsCalibrator>& cameras,
+    const std::map<int, CameraModel>& known_intrinsics, std::vector<int>& ids) {
   std::vector<IntrinsicsResult> intrinsics;
   std::string failures;
   for (const auto& [id, calibrator] : cameras) {
     ids.push_back(id);
     try {
-      intrinsics.push_back(calibrator.calibrate());
+      const auto known = known_intrinsics.find(id);
+      intrinsics.push_back(known != known_intrinsics.end() ? calibrator.with_known(known->second)
+                                                           : calibrator.calibrate());
     } catch (const Error& e) {
       failures += std::string(failures.empty() ? "" : "; ") + e.what();
       intrinsics.emplace_back();
@@ -316,7 +320,8 @@ void check_consistent(const CalibrationOptions& options,
 CalibrationResult RigCalibrator::solve() const {
   HULLPOSE_THROW_UNLESS(!cameras_.empty(), "no images were given");
   std::vector<int> ids;
-  const std::vector<IntrinsicsResult> intrinsics = calibrate_intrinsics(cameras_, ids);
+  const std::vector<IntrinsicsResult> intrinsics =
+      calibrate_intrinsics(cameras_, options_.known_intrinsics, ids);
   const int n_cams = static_cast<int>(ids.size());
   const int n_views = static_cast<int>(views_.size());
 
@@ -329,7 +334,7 @@ CalibrationResult RigCalibrator::solve() const {
   BundleProblem problem =
       bundle_problem(options_, intrinsics, obs, floors, link, n_views);  // adjusted in place
   BundleOptions ba;
-  ba.refine_intrinsics = options_.refine_intrinsics;
+  ba.refine_intrinsics = options_.refine_intrinsics && options_.known_intrinsics.empty();
   ba.refine_k3 = options_.intrinsics.estimate_k3;
   const BundleResult adjusted = bundle_adjust(problem, ba);
   HULLPOSE_LOG(Calibrate, Info) << "bundle adjustment: rms " << adjusted.initial_rms_px << " -> "

@@ -40,8 +40,8 @@ std::optional<Options> parse(int argc, const char* const* argv, std::ostream& ou
   cl.option("--gt", o.gt)
       .option("--est", o.est)
       .option("--report", o.report)
-      .flag("--json", o.json);
-  cl.option("--tolerance-px", o.consistency.tolerance_px)
+      .flag("--json", o.json)
+      .option("--tolerance-px", o.consistency.tolerance_px)
       .option("--show-frames", [&](const std::string& v) {
         for (size_t start = 0; start <= v.size();) {
           const size_t comma = v.find(',', start);
@@ -80,7 +80,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out) {
   if (!parsed) return 0;
   const Options& o = *parsed;
   HULLPOSE_THROW_UNLESS(std::filesystem::is_directory(o.gt), o.gt << ": not a dataset directory");
-  if (!std::filesystem::exists(DatasetPaths(o.gt).ground_truth())) return run_consistency(o, out);
+  // A dataset without ground truth (a real capture): scored against its silhouettes.
+  const DatasetPaths paths(o.gt);
+  if (std::filesystem::exists(paths.meta()) && !std::filesystem::exists(paths.ground_truth()))
+    return run_consistency(o, out);
   const EvalResult result = evaluate_files(o.gt, o.est);
   const ReportSource source{o.gt, o.est, read_meta(DatasetPaths(o.gt).meta()).motion};
   if (o.json)

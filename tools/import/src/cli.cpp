@@ -19,7 +19,8 @@ constexpr const char* kUsage =
     "m|cm|mm|in\n"
     "                           --up AXIS --floor F --out RIG.yaml [--cameras 1,2,...] [--rig-id "
     "ID]\n"
-    "                           [--volume-min-mm X,Y,Z --volume-max-mm X,Y,Z | --volume-size-mm X,Y,Z |\n"
+    "                           [--volume-min-mm X,Y,Z --volume-max-mm X,Y,Z | --volume-size-mm "
+    "X,Y,Z |\n"
     "                            --max-height-mm H]\n"
     "       hullpose-import silhouettes --rig RIG.yaml --pattern PATTERN --out DIR [--first F] "
     "[--frames N]\n"
@@ -36,12 +37,15 @@ constexpr const char* kUsage =
     "floor's\n"
     "coordinate along that axis. Ours: mm, z up, floor z = 0. Capture volume: the box every "
     "camera\n"
-    "sees (from the floor, at most --max-height-mm high), or a box of --volume-size-mm on the floor\n"
+    "sees (from the floor, at most --max-height-mm high), or a box of --volume-size-mm on the "
+    "floor\n"
     "centred where the cameras' optical axes meet, or the box given.\n"
     "silhouettes: re-encodes each camera's images into the dataset layout (docs/conventions.md);\n"
     "grey above --threshold is the person. Then: hullpose-fusion-host --replay DIR --out est.csv\n"
-    "recording: runs each camera node config (file source: video or images, its background, method and\n"
-    "clean-up) in-process and writes every frame's colour image and silhouette into the dataset layout.\n";
+    "recording: runs each camera node config (file source: video or images, its background, method "
+    "and\n"
+    "clean-up) in-process and writes every frame's colour image and silhouette into the dataset "
+    "layout.\n";
 
 std::vector<double> parse_list(const std::string& name, const std::string& text) {
   std::vector<double> v;
@@ -79,10 +83,7 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--volume-max-mm", max_mm)
       .option("--volume-size-mm", size_mm)
       .option("--max-height-mm", o.max_height_mm);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(projections.empty() != opencv.empty(),
                         "give one of --projections or --opencv (see --help)");
   HULLPOSE_THROW_UNLESS(!rig_out.empty(), "--out RIG.yaml is needed");
@@ -106,7 +107,8 @@ int rig_command(int argc, const char* const* argv, std::ostream& out) {
                         "--volume-min-mm and --volume-max-mm go together");
   if (!size_mm.empty()) {
     o.volume_size_mm = parse_point("--volume-size-mm", size_mm);
-    HULLPOSE_THROW_UNLESS((o.volume_size_mm->array() > 0).all(), "--volume-size-mm: every side must be positive");
+    HULLPOSE_THROW_UNLESS((o.volume_size_mm->array() > 0).all(),
+                          "--volume-size-mm: every side must be positive");
   }
   if (!min_mm.empty())
     o.volume = CaptureVolume{parse_point("--volume-min-mm", min_mm),
@@ -149,10 +151,7 @@ int silhouettes_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--fps", o.fps)
       .option("--threshold", o.threshold)
       .option("--motion", o.motion);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(!rig.empty() && !o.pattern.empty() && !dir.empty(),
                         "--rig, --pattern and --out are all needed (see --help)");
   o.rig = rig;
@@ -173,10 +172,7 @@ int recording_command(int argc, const char* const* argv, std::ostream& out) {
       .option("--frames", o.frames)
       .option("--fps", o.fps)
       .flag("--no-rgb", no_rgb);
-  if (!line.parse(argc, argv)) {
-    out << line.usage();
-    return 0;
-  }
+  if (!line.parse(argc, argv, out)) return 0;
   HULLPOSE_THROW_UNLESS(!dir.empty(), "--out DIR is needed");
   o.out = dir;
   o.rgb = !no_rgb;
@@ -188,21 +184,17 @@ int recording_command(int argc, const char* const* argv, std::ostream& out) {
 
 }  // namespace
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  try {
-    const std::string_view command = argc > 1 ? argv[1] : "";
-    if (command == "rig") return rig_command(argc - 1, argv + 1, out);
-    if (command == "silhouettes") return silhouettes_command(argc - 1, argv + 1, out);
-    if (command == "recording") return recording_command(argc - 1, argv + 1, out);
-    if (command == "-h" || command == "--help") {
-      out << kUsage;
-      return 0;
-    }
-    HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command << "' (see --help)");
-  } catch (const Error& e) {
-    err << "hullpose-import: error: " << e.what() << "\n";
-    return 2;
+int run_cli(int argc, const char* const* argv, std::ostream& out) {
+  const std::string_view command = argc > 1 ? argv[1] : "";
+  if (command == "rig") return rig_command(argc - 1, argv + 1, out);
+  if (command == "silhouettes") return silhouettes_command(argc - 1, argv + 1, out);
+  if (command == "recording") return recording_command(argc - 1, argv + 1, out);
+  if (command == "-h" || command == "--help") {
+    out << kUsage;
+    return 0;
   }
+  HULLPOSE_THROW("expected 'rig', 'silhouettes' or 'recording' first, got '" << command
+                                                                             << "' (see --help)");
 }
 
 }  // namespace hullpose::import

@@ -1,7 +1,7 @@
 #include "hullpose/import/recording_import.hpp"
 
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "hullpose/camera_node/camera_node.hpp"
 #include "hullpose/camera_node/node_config.hpp"
@@ -44,14 +44,16 @@ RecordingImport import_recordings(const RecordingImportOptions& o) {
         ++out.corrupt;  // logged by the source; no mask written: the camera sent nothing
         continue;
       }
-      HULLPOSE_THROW_UNLESS(s == camera_node::GrabStatus::kFrame, file.string() << ": camera " << id
-                                                                             << ": the source timed out");
+      HULLPOSE_THROW_UNLESS(s == camera_node::GrabStatus::kFrame,
+                            file.string() << ": camera " << id << ": the source timed out");
       const int f = static_cast<int>(frame.sequence);
       if (o.frames >= 0 && f >= o.frames) break;
       const cv::Mat& mask = node.process(frame, {frame.sequence, frame.capture_utime});
-      HULLPOSE_THROW_UNLESS(cv::imwrite(paths.mask(id, f).string(), mask), paths.mask(id, f).string() << ": cannot write");
+      HULLPOSE_THROW_UNLESS(cv::imwrite(paths.mask(id, f).string(), mask),
+                            paths.mask(id, f).string() << ": cannot write");
       if (o.rgb)
-        HULLPOSE_THROW_UNLESS(cv::imwrite(paths.rgb(id, f).string(), frame.image), paths.rgb(id, f).string() << ": cannot write");
+        HULLPOSE_THROW_UNLESS(cv::imwrite(paths.rgb(id, f).string(), frame.image),
+                              paths.rgb(id, f).string() << ": cannot write");
       ++out.masks;
       out.frames = std::max(out.frames, f + 1);
     }

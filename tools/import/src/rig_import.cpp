@@ -202,7 +202,8 @@ Eigen::Vector3d axes_meeting_point(const std::vector<CameraModel>& cameras) {
     b += P * c.centre();
   }
   HULLPOSE_THROW_UNLESS(std::abs(A.determinant()) > 1e-9,
-                        "the cameras' optical axes are parallel: no point where they meet (give --volume-min-mm/--volume-max-mm)");
+                        "the cameras' optical axes are parallel: no point where they meet (give "
+                        "--volume-min-mm/--volume-max-mm)");
   return A.ldlt().solve(b);
 }
 
@@ -262,7 +263,8 @@ RigImport import_rig(const RigImportOptions& o) {
   } else if (o.volume_size_mm) {
     const Eigen::Vector3d m = axes_meeting_point(out.rig.cameras), half = *o.volume_size_mm / 2;
     out.rig.volume.min_mm = Eigen::Vector3d(m.x() - half.x(), m.y() - half.y(), 0);
-    out.rig.volume.max_mm = Eigen::Vector3d(m.x() + half.x(), m.y() + half.y(), o.volume_size_mm->z());
+    out.rig.volume.max_mm =
+        Eigen::Vector3d(m.x() + half.x(), m.y() + half.y(), o.volume_size_mm->z());
   } else {
     out.rig.volume = calibrate::common_view_volume(out.rig.cameras,
                                                    static_cast<int>(out.rig.cameras.size()), 50);

@@ -25,13 +25,13 @@ namespace detail {
 }  // namespace hullpose
 
 // HULLPOSE_THROW_UNLESS(fx > 0, "camera " << id << ": fx must be positive, got " << fx);
-#define HULLPOSE_THROW_UNLESS(cond, stream_expr)                           \
-  do {                                                                     \
-    if (!(cond)) {                                                         \
-      std::ostringstream hullpose_msg_;                                    \
-      hullpose_msg_ << stream_expr;                                        \
-      ::hullpose::detail::throw_error(hullpose_msg_.str());                \
-    }                                                                      \
+#define HULLPOSE_THROW_UNLESS(cond, stream_expr)            \
+  do {                                                      \
+    if (!(cond)) {                                          \
+      std::ostringstream hullpose_msg_;                     \
+      hullpose_msg_ << stream_expr;                         \
+      ::hullpose::detail::throw_error(hullpose_msg_.str()); \
+    }                                                       \
   } while (0)
 
 // Unconditional, so that even an unoptimised build sees the function end here (-Wreturn-type).
@@ -42,7 +42,7 @@ namespace detail {
     ::hullpose::detail::throw_error(hullpose_msg_.str());                  \
   } while (0)
 
-#define HULLPOSE_ASSERT(cond)                                              \
-  do {                                                                     \
+#define HULLPOSE_ASSERT(cond)                                                  \
+  do {                                                                         \
     if (!(cond)) ::hullpose::detail::assert_failed(#cond, __FILE__, __LINE__); \
   } while (0)

@@ -12,16 +12,16 @@ namespace hullpose::synth {
 struct RingRigSpec {
   std::string rig_id = "thesis8";
   int ring_cameras = 7;
-  double radius_mm = 5000;        // ring radius, horizontal distance from the volume centre
-  double height_mm = 2600;        // camera height above the floor
-  double tilt_deg = std::numeric_limits<double>::quiet_NaN();  // downward pitch; NaN = aim at the volume centre
-  double azimuth0_deg = 0;        // azimuth of camera 0 (others follow anticlockwise)
-  bool ceiling = true;            // add camera id ring_cameras at the ceiling, looking down
+  double radius_mm = 5000;  // ring radius, horizontal distance from the volume centre
+  double height_mm = 2600;  // camera height above the floor
+  double tilt_deg = NAN;    // downward pitch; NaN = aim at the volume centre
+  double azimuth0_deg = 0;  // azimuth of camera 0 (others follow anticlockwise)
+  bool ceiling = true;      // add camera id ring_cameras at the ceiling, looking down
   double ceiling_height_mm = 5500;
   int width = 800, height = 600;
-  double vfov_deg = 58;           // ring cameras' vertical field of view
+  double vfov_deg = 58;  // ring cameras' vertical field of view
   double ceiling_vfov_deg = 58;
-  double k1 = 0;                  // radial distortion given to every camera (0 = ideal lenses)
+  double k1 = 0;  // radial distortion given to every camera (0 = ideal lenses)
   // The capture volume: a box on the floor around the centre that holds the subject (CMU 55_01
   // "dance, whirl" spans 2.4 m x 3.1 m).
   double volume_x_mm = 3400, volume_y_mm = 3400, volume_z_mm = 2200;

@@ -4,7 +4,8 @@
 //
 //   camera_id: 3
 //   rig_file: rig.yaml              # relative paths are relative to this file's folder
-//   source:                         # a frame-source backend (camera_node/source) and its parameters
+//   source:                         # a frame-source backend (camera_node/source) and its
+//   parameters
 //     type: libcamera               # libcamera | v4l2 | file | synthetic
 //     exposure_us: 4000
 //   bgs:
@@ -26,7 +27,8 @@
 //   trigger:                        # optional: without it the node is free-running (trigger_seq =
 //                                   # the frame counter, unsynchronised with the other nodes)
 //     edges: gpiod                  # the trigger input: gpiod (the trigger GPIO; production) |
-//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated rigs)
+//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated
+//                                   rigs)
 //     chip: gpiochip0               # gpiod: the chip (name, path or label) ...
 //     line: 17                      # ... and the input line's offset
 //     path: /run/hullpose/wire.sock # wire: the master's socket
@@ -56,7 +58,8 @@ struct SourceConfig {
 struct BgsConfig {
   std::string method;
   int learn_frames = 30;
-  std::string background;  // optional image pattern (printf %d) or video, resolved to an absolute path
+  std::string
+      background;  // optional image pattern (printf %d) or video, resolved to an absolute path
   Params params;
 };
 
@@ -78,8 +81,8 @@ struct LcmConfig {
 };
 
 struct TriggerConfig {
-  bool enabled = false;          // a trigger: section is present
-  std::string edges;             // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
+  bool enabled = false;  // a trigger: section is present
+  std::string edges;     // the edge source: "gpiod:CHIP:LINE" or "wire:PATH"
   std::string channel = "TRIGGER";
   // trigger.camera: "triggered" (the sensor exposes on the trigger line; default) or
   // "free_running" (no trigger input on the sensor: the frame nearest each edge is published,

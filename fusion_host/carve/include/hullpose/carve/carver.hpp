@@ -2,8 +2,8 @@
 // Volumetric visual hull of one trigger instant.
 //
 // Definition (what both the fast path and the brute-force reference compute):
-//   the pixel of voxel v in camera c is (round(u), round(v)) of VoxelProjector::project(centre of v),
-//   i.e. the pixel whose centre is nearest to the projected voxel centre (OpenCV pixel centres
+//   the pixel of voxel v in camera c is (round(u), round(v)) of VoxelProjector::project(centre of
+//   v), i.e. the pixel whose centre is nearest to the projected voxel centre (OpenCV pixel centres
 //   are integer coordinates; halves round up). The voxel centre "projects inside the
 //   silhouette" iff it is in front of the camera, that pixel lies in the image, and the mask is
 //   non-zero there. A voxel is kept iff it misses (does not project inside) in at most
@@ -33,11 +33,11 @@
 #include <span>
 #include <vector>
 
+#include "hullpose/carve/voxel_test.hpp"
 #include "hullpose/common/camera.hpp"
 #include "hullpose/common/rig.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
 #include "hullpose/common/voxel_grid.hpp"
-#include "hullpose/carve/voxel_test.hpp"
 #include "hullpose/fusion/bit_grid.hpp"
 
 namespace hullpose::carve {
@@ -73,7 +73,7 @@ struct CarveOptions {
 
 // Per-frame outcome. Reuse one instance across frames (its vectors keep their capacity).
 struct CarveReport {
-  bool valid = false;                 // more than `tolerance` cameras present
+  bool valid = false;  // more than `tolerance` cameras present
   int cameras_used = 0;
   std::vector<int> missing_cameras;   // camera ids that sent nothing
   std::vector<int> rejected_cameras;  // camera ids whose mask had the wrong size or type
@@ -100,16 +100,19 @@ class Carver {
              std::span<const PixelRoi> fg_boxes = {});
 
   // Reference: every voxel centre projected into every present camera (tests, benchmarks).
-  void carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report) const;
+  void carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull,
+                         CarveReport& report) const;
 
   // Which views are usable; fills the report's camera lists and validity, and `present` with the
   // indices of the usable views. Shared with the CUDA backend. Throws on a wrong view count.
-  void check_views(std::span<const cv::Mat> views, CarveReport& report, std::vector<int>& present) const;
+  void check_views(std::span<const cv::Mat> views, CarveReport& report,
+                   std::vector<int>& present) const;
   const std::vector<VoxelProjector>& projectors() const { return projectors_; }
 
  private:
   struct Precomputed;
   struct Frame;
+  class NodeVisit;
 
   Rig rig_;
   CarveOptions options_;

@@ -25,7 +25,8 @@ struct ReplaySummary {
   double stature_mm = 0;  // the pose stage's running estimate at the end
 };
 
-// Throws hullpose::Error on a dataset that cannot be read (rig, meta, an unreadable mask).
+// Throws hullpose::Error on a dataset that cannot be read (rig, meta). A mask that does not decode
+// (corrupt, truncated) is that camera missing for that frame, counted and logged.
 ReplaySummary run_replay(const ReplayOptions& options);
 
 // The options of `hullpose-fusion-host --replay DIR --out FILE [...]`; nullopt after printing

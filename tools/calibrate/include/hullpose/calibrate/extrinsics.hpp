@@ -31,8 +31,8 @@ Linkage link_cameras(int n_cameras, int n_views, const std::vector<PoseObservati
                      int root_camera);
 
 // Axis-aligned box around the points (sampled every step_mm over the cameras' horizontal extent
-// grown by half its size on every side, from the floor up to the highest camera) that at least `min_cameras` cameras see inside their image.
-// Throws hullpose::Error if no such point exists.
+// grown by half its size on every side, from the floor up to the highest camera) that at least
+// `min_cameras` cameras see inside their image. Throws hullpose::Error if no such point exists.
 CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int min_cameras,
                                  double step_mm = 100);
 

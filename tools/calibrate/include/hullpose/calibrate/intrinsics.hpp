@@ -63,6 +63,10 @@ class IntrinsicsCalibrator {
   int views_seen() const { return seen_; }
   // Throws hullpose::Error naming the camera: no board found, too few views, degenerate views.
   IntrinsicsResult calibrate() const;
+  // With the intrinsics known (another tool's calibration): only each view's board pose, by
+  // solvePnP. Needs one view; throws hullpose::Error naming the camera if none, or if the image
+  // size is not `known`'s.
+  IntrinsicsResult with_known(const CameraModel& known) const;
 
  private:
   struct Estimate {

@@ -15,8 +15,9 @@ struct CommandLine {
   std::vector<std::filesystem::path>
       node_configs;  // ... or live: one camera node config per camera
   LiveOptions live;
-  std::filesystem::path out;     // rig file to write
-  std::filesystem::path report;  // optional copy of the report
+  std::filesystem::path out;      // rig file to write
+  std::filesystem::path report;   // optional copy of the report
+  std::filesystem::path compare;  // optional: another calibration of the rig to compare with
   CalibrationOptions options;
   bool quiet = false;
 };

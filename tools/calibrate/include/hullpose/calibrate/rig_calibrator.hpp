@@ -25,8 +25,11 @@ struct CalibrationOptions {
   std::vector<std::string> floor_views = {"floor"};
   double board_thickness_mm = 0;
   bool refine_intrinsics = true;  // in the bundle adjustment
-  int volume_min_cameras = 0;     // 0: all cameras
-  double max_rms_px = 2.0;        // a rig worse than this is refused, not written
+  // Cameras whose intrinsics are known (by id, from another calibration: --intrinsics RIG.yaml):
+  // only their board poses are estimated, and the bundle adjustment keeps their intrinsics.
+  std::map<int, CameraModel> known_intrinsics;
+  int volume_min_cameras = 0;  // 0: all cameras
+  double max_rms_px = 2.0;     // a rig worse than this is refused, not written
 };
 
 struct CameraReport {

@@ -4,7 +4,7 @@
 
 namespace hullpose::import {
 
-// Returns the exit status: 0, or 2 after printing a hullpose::Error to `err`.
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+// Returns the exit status (0); throws hullpose::Error on bad input (run_tool makes it exit 2).
+int run_cli(int argc, const char* const* argv, std::ostream& out);
 
 }  // namespace hullpose::import

@@ -73,7 +73,7 @@ struct RigImportOptions {
   // camera's optical axis: a rig's cameras aim at the middle of the capture area, and a volume
   // the size of the subject's space carves finer and with fewer ghosts than all the shared view.
   std::optional<Eigen::Vector3d> volume_size_mm;
-  double max_height_mm = 0;             // > 0: the default volume stops at this height
+  double max_height_mm = 0;  // > 0: the default volume stops at this height
 };
 
 struct RigImport {
