@@ -1,4 +1,5 @@
 // Message authentication: what a receiver accepts and, for everything else, the reason it drops.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <random>
@@ -58,7 +59,7 @@ TEST_CASE("a signed message verifies and the trailer is stripped") {
     CHECK(r.verdict == Verdict::kOk);
     CHECK(r.message_size == n);
     CHECK(strip_trailer(s.data(), s.size()) == n);
-    CHECK(std::memcmp(s.data(), m.data(), n) == 0);
+    CHECK(std::equal(m.begin(), m.end(), s.begin()));  // memcmp would take null for n = 0
   }
 }
 
