@@ -26,12 +26,14 @@
 #include "hullpose/fusion/fusion_core.hpp"
 #include "hullpose/gpu/backend.hpp"
 #include "hullpose/gpu/cuda_fusion.hpp"
+#include "support/fusion_bench.hpp"
 #include "support/cmu_scene.hpp"
 
 namespace {
 
 using namespace hullpose;
 namespace ft = hullpose::fusion::testing;
+using ft::cpu_now_ms;
 
 struct Scene {
   Rig rig;
@@ -61,14 +63,6 @@ void write_npy(const fusion::BitGrid& v, const std::filesystem::path& path) {
     for (int y = 0; y < d.y(); ++y)
       for (int x = 0; x < d.x(); ++x) data[i++] = v.get(x, y, z) ? 1 : 0;
   f.write(data.data(), static_cast<std::streamsize>(data.size()));
-}
-
-// CPU time of this process (ms): on the shared build machine wall time mostly measures the
-// other jobs; cpu_ms is reported beside median_ms for that reason.
-double cpu_now_ms() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
 const ft::CmuFrames& cmu() {
@@ -194,21 +188,7 @@ void fusion_core(benchmark::State& state, int res, int threads) {
   opt.resolution = res;
   opt.threads = threads;
   fusion::FusionCore core(s.rig, opt);
-  double carve_ms = 0, thin_ms = 0, cleanup_ms = 0;
-  size_t f = 0;
-  const double cpu0 = cpu_now_ms();
-  for (auto _ : state) {
-    const auto& r = core.process(s.views[f], s.boxes[f]);
-    f = (f + 1) % s.views.size();
-    carve_ms += r.timings.carve_ms;
-    cleanup_ms += r.timings.cleanup_ms;
-    thin_ms += r.timings.thin_ms;
-  }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / n;
-  state.counters["carve_ms"] = carve_ms / n;
-  state.counters["cleanup_ms"] = cleanup_ms / n;
-  state.counters["thin_ms"] = thin_ms / n;
+  ft::run_fusion_core(state, core, s.views, s.boxes);
 }
 
 void cuda_carve(benchmark::State& state, int res) {

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hullpose/fusion/fusion_core.hpp"
+#include "support/fusion_bench.hpp"
 #include "support/cmu_scene.hpp"
 #include "support/crane_scene.hpp"
 
@@ -22,6 +23,7 @@ namespace {
 
 using namespace hullpose;
 namespace ft = hullpose::fusion::testing;
+using ft::cpu_now_ms;
 
 struct Scene {
   Rig rig;
@@ -30,12 +32,6 @@ struct Scene {
   std::unique_ptr<carve::Carver> carver;
   std::vector<fusion::BitGrid> hulls;  // carved and cleaned, per frame
 };
-
-double cpu_now_ms() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
-}
 
 std::unique_ptr<Scene> make_scene(Rig rig, std::vector<std::vector<cv::Mat>> views,
                                   int resolution) {
@@ -132,23 +128,7 @@ void fusion_core(benchmark::State& state, Scene& (*scene)()) {
   opt.threads = 1;
   opt.backend = gpu::Backend::kCpu;
   fusion::FusionCore core(s.rig, opt);
-  double carve_ms = 0, thin_ms = 0, cleanup_ms = 0, iterations = 0;
-  size_t f = 0;
-  const double cpu0 = cpu_now_ms();
-  for (auto _ : state) {
-    const auto& r = core.process(s.views[f], s.boxes[f]);
-    f = (f + 1) % s.views.size();
-    carve_ms += r.timings.carve_ms;
-    cleanup_ms += r.timings.cleanup_ms;
-    thin_ms += r.timings.thin_ms;
-    iterations += r.thin.iterations;
-  }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / n;
-  state.counters["carve_ms"] = carve_ms / n;
-  state.counters["cleanup_ms"] = cleanup_ms / n;
-  state.counters["thin_ms"] = thin_ms / n;
-  state.counters["thin_iterations"] = iterations / n;
+  ft::run_fusion_core(state, core, s.views, s.boxes);
 }
 
 const bool registered = [] {
