@@ -47,6 +47,17 @@ double closeness(double ideal, double actual) {
 // Index into the endpoint class arrays.
 constexpr int kHeadSlot = 0, kHand1 = 1, kHand2 = 2, kFoot1 = 3, kFoot2 = 4;
 
+// The torso's line, pointing from the pelvis to the origin.
+Eigen::Vector3d torso_up(const LabelledTree& tree) {
+  MomentAccumulator m;
+  for (int32_t i : tree.torso_path) m.add(tree.position[i]);
+  Eigen::Vector3d d =
+      m.count() >= 2 ? fit_line(m).direction
+                     : Eigen::Vector3d(tree.position[tree.origin] - tree.position[tree.pelvis]);
+  if (d.dot(tree.position[tree.origin] - tree.position[tree.pelvis]) < 0) d = -d;
+  return d.normalized();
+}
+
 }  // namespace
 
 PoseTreeBuilder::PoseTreeBuilder(TreeParams params) : params_(params) {}
@@ -56,32 +67,58 @@ void PoseTreeBuilder::invalidate(const char* why) {
   tree_.why = why;
 }
 
-void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid) {
+// Algorithm 2 with depth layers: the largest component's top-most voxel is the root, one tree
+// node per connected set of voxels at one breadth-first depth, then the tree's adjacency.
+void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels,
+                                const VoxelGridSpec& grid) {
+  index_voxels(voxels, grid);
+  tree_.position.clear();
+  tree_.parent.clear();
+  const int32_t root = largest_component_root(voxels, grid);
+  if (root >= 0) {
+    depths_from(voxels, grid, root);
+    one_node_per_depth_layer(voxels, grid);
+  }
+  for (const Eigen::Vector3i& v : voxels)
+    if (grid.contains(v)) lookup_[grid.index(v.x(), v.y(), v.z())] = -1;
+  build_adjacency();
+}
+
+void PoseTreeBuilder::index_voxels(std::span<const Eigen::Vector3i> voxels,
+                                   const VoxelGridSpec& grid) {
   if (!(grid == grid_) || lookup_.size() != grid.size()) {
     grid_ = grid;
     lookup_.assign(grid.size(), -1);
   }
   const int32_t n_in = static_cast<int32_t>(voxels.size());
-  component_.assign(voxels.size(), -1);
   for (int32_t i = 0; i < n_in; ++i) {
     if (!grid.contains(voxels[i])) continue;
     int32_t& slot = lookup_[grid.index(voxels[i].x(), voxels[i].y(), voxels[i].z())];
     if (slot < 0) slot = i;
   }
-  auto neighbours = [&](int32_t i, auto&& visit) {
-    const Eigen::Vector3i& v = voxels[i];
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Eigen::Vector3i w(v.x() + dx, v.y() + dy, v.z() + dz);
-          if (!grid.contains(w)) continue;
-          const int32_t j = lookup_[grid.index(w.x(), w.y(), w.z())];
-          if (j >= 0) visit(j);
-        }
-  };
+}
 
-  // Components: pick the largest, root at its top-most voxel (ties: first listed).
+template <typename Visit>
+void PoseTreeBuilder::for_each_neighbour(std::span<const Eigen::Vector3i> voxels,
+                                         const VoxelGridSpec& grid, int32_t i,
+                                         Visit&& visit) const {
+  const Eigen::Vector3i& v = voxels[i];
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        const Eigen::Vector3i w(v.x() + dx, v.y() + dy, v.z() + dz);
+        if (!grid.contains(w)) continue;
+        const int32_t j = lookup_[grid.index(w.x(), w.y(), w.z())];
+        if (j >= 0) visit(j);
+      }
+}
+
+// Components: the largest wins, rooted at its top-most voxel (ties: first listed); -1 if none.
+int32_t PoseTreeBuilder::largest_component_root(std::span<const Eigen::Vector3i> voxels,
+                                                const VoxelGridSpec& grid) {
+  const int32_t n_in = static_cast<int32_t>(voxels.size());
+  component_.assign(voxels.size(), -1);
   int32_t best_root = -1, best_size = 0, next_id = 0;
   for (int32_t s = 0; s < n_in; ++s) {
     if (!grid.contains(voxels[s]) || component_[s] >= 0) continue;
@@ -94,7 +131,7 @@ void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels, const V
     for (size_t q = 0; q < queue_.size(); ++q) {
       const int32_t i = queue_[q];
       if (voxels[i].z() > voxels[top].z() || (voxels[i].z() == voxels[top].z() && i < top)) top = i;
-      neighbours(i, [&](int32_t j) {
+      for_each_neighbour(voxels, grid, i, [&](int32_t j) {
         if (component_[j] < 0) {
           component_[j] = id;
           queue_.push_back(j);
@@ -106,62 +143,66 @@ void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels, const V
       best_root = top;
     }
   }
+  return best_root;
+}
 
-  // Breadth-first traversal from the root (algorithm 2), then one tree node per connected set
-  // of voxels at the same breadth-first depth. On a one-voxel-thin skeleton that is exactly the
-  // paper's node-per-voxel tree; where CK3 left the skeleton two voxels thick, the voxels side
-  // by side share a depth and collapse into one node at their centroid, instead of growing two
-  // parallel branches that no length threshold can tell from a limb.
-  tree_.position.clear();
-  tree_.parent.clear();
-  if (best_root >= 0) {
-    depth_.assign(voxels.size(), -1);
-    cluster_.assign(voxels.size(), -1);
-    queue_.clear();
-    queue_.push_back(best_root);
-    depth_[best_root] = 0;
-    for (size_t q = 0; q < queue_.size(); ++q) {
-      const int32_t i = queue_[q];
-      neighbours(i, [&](int32_t j) {
-        if (depth_[j] < 0) {
-          depth_[j] = depth_[i] + 1;
-          queue_.push_back(j);
+// Breadth-first depth of every voxel of the root's component; queue_ holds them in visit order.
+void PoseTreeBuilder::depths_from(std::span<const Eigen::Vector3i> voxels,
+                                  const VoxelGridSpec& grid, int32_t root) {
+  depth_.assign(voxels.size(), -1);
+  queue_.clear();
+  queue_.push_back(root);
+  depth_[root] = 0;
+  for (size_t q = 0; q < queue_.size(); ++q) {
+    const int32_t i = queue_[q];
+    for_each_neighbour(voxels, grid, i, [&](int32_t j) {
+      if (depth_[j] < 0) {
+        depth_[j] = depth_[i] + 1;
+        queue_.push_back(j);
+      }
+    });
+  }
+}
+
+// On a one-voxel-thin skeleton one node per depth layer set is exactly the paper's
+// node-per-voxel tree; where CK3 left the skeleton two voxels thick, the voxels side by side
+// share a depth and collapse into one node at their centroid, instead of growing two parallel
+// branches that no length threshold can tell from a limb.
+void PoseTreeBuilder::one_node_per_depth_layer(std::span<const Eigen::Vector3i> voxels,
+                                               const VoxelGridSpec& grid) {
+  cluster_.assign(voxels.size(), -1);
+  for (size_t q = 0; q < queue_.size(); ++q) {
+    const int32_t seed = queue_[q];
+    if (cluster_[seed] >= 0) continue;
+    const int32_t id = static_cast<int32_t>(tree_.position.size());
+    const int32_t depth = depth_[seed];
+    int32_t parent = -1;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int members = 0;
+    stack_.clear();
+    stack_.push_back(seed);
+    cluster_[seed] = id;
+    while (!stack_.empty()) {
+      const int32_t i = stack_.back();
+      stack_.pop_back();
+      sum += grid.centre_mm(voxels[i]);
+      ++members;
+      for_each_neighbour(voxels, grid, i, [&](int32_t j) {
+        if (depth_[j] == depth && cluster_[j] < 0) {
+          cluster_[j] = id;
+          stack_.push_back(j);
+        } else if (depth_[j] == depth - 1 && parent < 0) {
+          parent = cluster_[j];
         }
       });
     }
-    for (size_t q = 0; q < queue_.size(); ++q) {
-      const int32_t seed = queue_[q];
-      if (cluster_[seed] >= 0) continue;
-      const int32_t id = static_cast<int32_t>(tree_.position.size());
-      const int32_t depth = depth_[seed];
-      int32_t parent = -1;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      int members = 0;
-      stack_.clear();
-      stack_.push_back(seed);
-      cluster_[seed] = id;
-      while (!stack_.empty()) {
-        const int32_t i = stack_.back();
-        stack_.pop_back();
-        sum += grid.centre_mm(voxels[i]);
-        ++members;
-        neighbours(i, [&](int32_t j) {
-          if (depth_[j] == depth && cluster_[j] < 0) {
-            cluster_[j] = id;
-            stack_.push_back(j);
-          } else if (depth_[j] == depth - 1 && parent < 0) {
-            parent = cluster_[j];
-          }
-        });
-      }
-      tree_.parent.push_back(parent);
-      tree_.position.push_back(sum / members);
-    }
+    tree_.parent.push_back(parent);
+    tree_.position.push_back(sum / members);
   }
-  for (int32_t i = 0; i < n_in; ++i)
-    if (grid.contains(voxels[i])) lookup_[grid.index(voxels[i].x(), voxels[i].y(), voxels[i].z())] = -1;
+}
 
-  // Undirected adjacency (CSR) of the tree.
+// Undirected adjacency (CSR) of the tree.
+void PoseTreeBuilder::build_adjacency() {
   const int32_t n = static_cast<int32_t>(tree_.parent.size());
   adj_begin_.assign(static_cast<size_t>(n) + 1, 0);
   for (int32_t i = 1; i < n; ++i) {
@@ -264,8 +305,9 @@ bool PoseTreeBuilder::prune(double longest) {
     // branch shrinks to ~0.05 of the longest path when a raised arm's junction moves up the
     // neck); whether a short one is a real limb is the ranking's call, not the pruning's.
     if (branches_.size() <= kNumExtremities) break;
-    const auto shortest = std::min_element(branches_.begin(), branches_.end(),
-                                           [](const Branch& a, const Branch& b) { return a.length < b.length; });
+    const auto shortest =
+        std::min_element(branches_.begin(), branches_.end(),
+                         [](const Branch& a, const Branch& b) { return a.length < b.length; });
     if (shortest->length >= threshold && branches_.size() <= kMaxEnds) break;
     remove_branch(shortest->end, shortest->junction);
   }
@@ -300,12 +342,13 @@ int32_t PoseTreeBuilder::meeting_node(int32_t a, int32_t b) const {
 
 // Eq. 1-4 for one origin candidate and one assignment of endpoints to classes; dist_ must hold
 // the distances from `candidate` over the pruned tree.
-PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
-                                                        const std::array<int32_t, kNumExtremities>& ends,
-                                                        double longest) const {
-  const double unit = longest / ratio::kLongestPath;  // one stature, by the paper-5 reference length
+PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(
+    int32_t candidate, const std::array<int32_t, kNumExtremities>& ends, double longest) const {
+  const double unit =
+      longest / ratio::kLongestPath;  // one stature, by the paper-5 reference length
   const double ideal_neck = ratio::kNeckChain * unit, ideal_arm = ratio::kArmChain * unit;
-  const double ideal_torso = ratio::kTorso * unit, ideal_leg = (ratio::kTorso + ratio::kLegChain) * unit;
+  const double ideal_torso = ratio::kTorso * unit,
+               ideal_leg = (ratio::kTorso + ratio::kLegChain) * unit;
   const double offset_scale = params_.branch_offset_ratio * longest;
   const double merge_mm = params_.junction_merge_voxels * grid_.voxel_mm;
 
@@ -316,15 +359,16 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
   };
   // The neck continues the torso: the head leaves the origin within ~60 degrees of the torso's
   // direction (pelvis -> origin; even a bowed head's top stays inside 90), while the spurs CK3
-  // grows off a thick chest or back leave it sideways, forwards or downwards. Length alone cannot tell
-  // them apart: a spur is as long as the chest is deep, about the neck's length.
+  // grows off a thick chest or back leave it sideways, forwards or downwards. Length alone cannot
+  // tell them apart: a spur is as long as the chest is deep, about the neck's length.
   const int32_t pelvis = meeting_node(ends[kFoot1], ends[kFoot2]);
   double head_direction = 1;
   if (pelvis >= 0 && pelvis != candidate) {
     const Eigen::Vector3d up = tree_.position[candidate] - tree_.position[pelvis];
     const Eigen::Vector3d neck = tree_.position[ends[kHeadSlot]] - tree_.position[candidate];
     const double norms = up.norm() * neck.norm();
-    if (norms > 0) head_direction = std::clamp(2 * up.dot(neck) / norms, 0.0, 1.0);  // 1 up to 60 deg, 0 at 90
+    if (norms > 0)
+      head_direction = std::clamp(2 * up.dot(neck) / norms, 0.0, 1.0);  // 1 up to 60 deg, 0 at 90
   }
   Ranked r;
   r.origin = candidate;
@@ -332,7 +376,8 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
   r.upright = pelvis >= 0 && tree_.position[candidate].z() > tree_.position[pelvis].z();
   for (int s = 0; s < kNumExtremities; ++s) {
     const double dr = dist_[ends[s]];
-    const double offset = std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
+    const double offset =
+        std::max(0.0, dr - branch_of(ends[s]));  // root to the limb's branch point
     double f;
     if (s == kHeadSlot)
       f = closeness(ideal_neck, dr) / (1 + offset / offset_scale) * head_direction;
@@ -346,7 +391,9 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::rank_candidate(int32_t candidate,
   auto dropped_at = [&](int32_t junction) {
     int n = 0;
     for (size_t k = 0; k < ends_.size(); ++k)
-      if (end_junction_[k] == junction && std::find(ends.begin(), ends.end(), ends_[k]) == ends.end()) ++n;
+      if (end_junction_[k] == junction &&
+          std::find(ends.begin(), ends.end(), ends_[k]) == ends.end())
+        ++n;
     return n;
   };
   int degree = degree_[candidate] - dropped_at(candidate);
@@ -373,20 +420,23 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_structural(double longest) {
       for (uint32_t k = 0; k < count; ++k)
         if (subset & (1u << k)) order[n++] = ends_[k];
       // Nearest last: feet are the two farthest, then the hands, the head nearest (algorithm 3).
-      std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
-      const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0], order[1]};
+      std::sort(order.begin(), order.end(),
+                [&](int32_t a, int32_t b) { return dist_[a] > dist_[b]; });
+      const std::array<int32_t, kNumExtremities> ends = {order[4], order[2], order[3], order[0],
+                                                         order[1]};
       const Ranked r = rank_candidate(c, ends, longest);
       if (r.rank > best.rank) best = r;
       if (r.upright && r.rank > best_upright.rank) best_upright = r;
     }
   }
-  return !best.upright && best_upright.origin >= 0 && best_upright.quality >= best.quality - params_.upright_margin
+  return !best.upright && best_upright.origin >= 0 &&
+                 best_upright.quality >= best.quality - params_.upright_margin
              ? best_upright
              : best;
 }
 
-PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<int32_t, kNumExtremities>& ends,
-                                                             double longest) {
+PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(
+    const std::array<int32_t, kNumExtremities>& ends, double longest) {
   Ranked best;
   for (int32_t c : junctions_) {
     distances_from(c, true);
@@ -396,14 +446,16 @@ PoseTreeBuilder::Ranked PoseTreeBuilder::best_for_assignment(const std::array<in
   return best;
 }
 
-std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const TemporalHint& hint) const {
+std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(
+    const TemporalHint& hint) const {
   // The assignment of endpoints to the previous extremities with the least summed displacement:
   // dynamic programming over the subsets of endpoints used so far (5 x 2^kMaxEnds states).
   const int count = static_cast<int>(ends_.size());
   const uint32_t full = 1u << count;
   std::array<std::array<double, kNumExtremities>, kMaxEnds> cost{};
   for (int k = 0; k < count; ++k)
-    for (int s = 0; s < kNumExtremities; ++s) cost[k][s] = (tree_.position[ends_[k]] - hint.extremity_mm[s]).norm();
+    for (int s = 0; s < kNumExtremities; ++s)
+      cost[k][s] = (tree_.position[ends_[k]] - hint.extremity_mm[s]).norm();
   // best_[mask]: least cost of giving slots 0..popcount(mask)-1 the endpoints in mask.
   std::fill(assign_cost_.begin(), assign_cost_.begin() + full, kInf);
   assign_cost_[0] = 0;
@@ -422,7 +474,9 @@ std::array<int32_t, kNumExtremities> PoseTreeBuilder::temporal_assignment(const 
   }
   uint32_t best = 0;
   for (uint32_t mask = 0; mask < full; ++mask)
-    if (std::popcount(mask) == kNumExtremities && (best == 0 || assign_cost_[mask] < assign_cost_[best])) best = mask;
+    if (std::popcount(mask) == kNumExtremities &&
+        (best == 0 || assign_cost_[mask] < assign_cost_[best]))
+      best = mask;
   std::array<int32_t, kNumExtremities> out;
   for (int s = kNumExtremities; s-- > 0;) {
     const int k = assign_from_[best];
@@ -451,8 +505,8 @@ double PoseTreeBuilder::path_length(const std::vector<int32_t>& path) const {
 // the extremity (path front) or from the junction (path back). The result points towards the
 // back of the path (up the tree) when measured from the extremity, towards the front (away from
 // the torso) when measured from the junction. Zero when fewer than two nodes qualify.
-Eigen::Vector3d PoseTreeBuilder::path_direction(const std::vector<int32_t>& path, double from_mm, double to_mm,
-                                                bool from_junction) const {
+Eigen::Vector3d PoseTreeBuilder::path_direction(const std::vector<int32_t>& path, double from_mm,
+                                                double to_mm, bool from_junction) const {
   MomentAccumulator m;
   double arc = 0;
   const int32_t n = static_cast<int32_t>(path.size());
@@ -494,139 +548,144 @@ void PoseTreeBuilder::label_parts() {
   for (size_t i = 1; i < n; ++i)
     if (tree_.part[i] == Part::Unlabelled) tree_.part[i] = tree_.part[tree_.parent[i]];
   for (size_t i = n; i-- > 1;)
-    if (tree_.part[tree_.parent[i]] == Part::Unlabelled) tree_.part[tree_.parent[i]] = tree_.part[i];
+    if (tree_.part[tree_.parent[i]] == Part::Unlabelled)
+      tree_.part[tree_.parent[i]] = tree_.part[i];
   for (size_t i = 1; i < n; ++i)
     if (tree_.part[i] == Part::Unlabelled) tree_.part[i] = tree_.part[tree_.parent[i]];
 }
 
+// The body frame (up, forward, left) and which limb of each pair is left; false when no
+// forward direction can be found.
 bool PoseTreeBuilder::orient(const TemporalHint& hint, double stature) {
+  const double thigh_mm = bone_ratio(Joint::LKne) * stature;
+  tree_.up = torso_up(tree_);
+  if (!settle_forward(hint, stature, thigh_mm)) return false;
+  tree_.left = tree_.up.cross(tree_.forward);
+  settle_arms(hint, stature);
+  settle_legs(hint, stature, thigh_mm);
   auto& paths = tree_.limb_path;
-  const Eigen::Vector3d up = [&] {
-    MomentAccumulator m;
-    for (int32_t i : tree_.torso_path) m.add(tree_.position[i]);
-    Eigen::Vector3d d = m.count() >= 2 ? fit_line(m).direction
-                                        : Eigen::Vector3d(tree_.position[tree_.origin] - tree_.position[tree_.pelvis]);
-    if (d.dot(tree_.position[tree_.origin] - tree_.position[tree_.pelvis]) < 0) d = -d;
-    return d.normalized();
-  }();
-  tree_.up = up;
+  for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].front();
+  return true;
+}
 
-  // Algorithm 5: joint normals of ankle and knee, forward = normal x torso.
+// Algorithm 5: joint normals of ankle and knee, forward = normal x torso; the previous frame's
+// forward when the legs give none. `up` is a copy and `thigh` comes from orient() (settle_legs
+// uses it too) on purpose: so the compiler forms the same FMAs (-march=native) as when this was
+// part of orient(), and the estimates stay bit-identical.
+bool PoseTreeBuilder::settle_forward(const TemporalHint& hint, double stature, double thigh) {
+  const Eigen::Vector3d up = tree_.up;
+  const auto& paths = tree_.limb_path;
   const double foot = (bone_ratio(Joint::LToe) + bone_ratio(Joint::LFoot)) * stature;
-  const double lleg = bone_ratio(Joint::LAnk) * stature, thigh = bone_ratio(Joint::LKne) * stature;
+  const double lleg = bone_ratio(Joint::LAnk) * stature;
   const double leg1 = path_length(paths[kFoot1]), leg2 = path_length(paths[kFoot2]);
   const bool use_ankles = std::abs(leg1 - leg2) <= 2 * foot;  // a degenerate foot: skip ankles
   Eigen::Vector3d forward = Eigen::Vector3d::Zero();
   for (int s : {kFoot1, kFoot2}) {
     const Eigen::Vector3d v_foot = path_direction(paths[s], 0, foot, false);
     const Eigen::Vector3d v_lleg = path_direction(paths[s], foot, foot + lleg, false);
-    const Eigen::Vector3d v_thigh = path_direction(paths[s], foot + lleg, foot + lleg + thigh, false);
+    const Eigen::Vector3d v_thigh =
+        path_direction(paths[s], foot + lleg, foot + lleg + thigh, false);
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    if (use_ankles && !v_foot.isZero() && !v_lleg.isZero() && angle_between(v_foot, v_lleg) > params_.bend_min_deg * kDeg)
+    if (use_ankles && !v_foot.isZero() && !v_lleg.isZero() &&
+        angle_between(v_foot, v_lleg) > params_.bend_min_deg * kDeg)
       normal += v_foot.cross(v_lleg).normalized();
-    if (!v_lleg.isZero() && !v_thigh.isZero() && angle_between(v_lleg, v_thigh) > params_.bend_min_deg * kDeg)
+    if (!v_lleg.isZero() && !v_thigh.isZero() &&
+        angle_between(v_lleg, v_thigh) > params_.bend_min_deg * kDeg)
       normal += v_lleg.cross(-v_thigh).normalized();
     if (normal.norm() > 1e-6) forward += normal.normalized().cross(up).normalized();
   }
   forward -= up * up.dot(forward);
   tree_.forward_from_previous = false;
-  if (forward.norm() < params_.min_forward_norm) {  // straight legs without feet, or the two legs disagree
+  if (forward.norm() <
+      params_.min_forward_norm) {  // straight legs without feet, or the two legs disagree
     if (!hint.valid) return false;
     forward = hint.forward - up * up.dot(hint.forward);
     if (forward.norm() < 1e-6) return false;
     tree_.forward_from_previous = true;
   }
   tree_.forward = forward.normalized();
-  tree_.left = up.cross(tree_.forward);
-
-  // Which of two limbs is left; too small a margin defers to the previous frame's positions.
-  auto settle = [&](int a, int b, bool first_left, bool weak, Extremity hint_left, Extremity hint_right) {
-    if (weak && hint.valid) {
-      const Eigen::Vector3d& p1 = tree_.position[paths[a].front()];
-      const Eigen::Vector3d& p2 = tree_.position[paths[b].front()];
-      const Eigen::Vector3d& l = hint.extremity_mm[static_cast<int>(hint_left)];
-      const Eigen::Vector3d& r = hint.extremity_mm[static_cast<int>(hint_right)];
-      first_left = (p1 - l).norm() + (p2 - r).norm() <= (p2 - l).norm() + (p1 - r).norm();
-    }
-    if (!first_left) {
-      std::swap(paths[a], paths[b]);
-      std::swap(tree_.limb_score[a], tree_.limb_score[b]);
-    }
-  };
-
-  // Arms, algorithm 6: lines through the nodes nearest the torso, pointing away from it.
-  {
-    const double set_mm = 1.5 * bone_ratio(Joint::LSho) * stature;
-    const Eigen::Vector3d v1 = path_direction(paths[kHand1], 0, set_mm, true);
-    const Eigen::Vector3d v2 = path_direction(paths[kHand2], 0, set_mm, true);
-    const Eigen::Vector3d& f = tree_.forward;
-    const Eigen::Vector3d& l = tree_.left;
-    bool first_left;
-    double margin;
-    const double d1 = l.dot(v1), d2 = l.dot(v2);
-    if ((d1 > 0) == (d2 > 0)) {  // both to one side: the one further back (front) is left
-      const double a1 = angle_between(f, v1), a2 = angle_between(f, v2);
-      first_left = d1 > 0 ? a1 > a2 : a1 < a2;
-      margin = std::abs(a1 - a2);
-    } else {
-      const double a1 = angle_between(l, v1), a2 = angle_between(l, v2);
-      first_left = a1 < a2;
-      margin = std::abs(a1 - a2);
-    }
-    tree_.lr_margin_deg = margin / kDeg;
-    settle(kHand1, kHand2, first_left, margin < params_.lr_min_margin_deg * kDeg, Extremity::LHand, Extremity::RHand);
-  }
-  // Legs: where the two thighs sit along the left axis, relative to the pelvis. Algorithm 6's
-  // hip-line angles are unreliable here: the leg branches leave the crotch nearly parallel
-  // whenever the legs are close, and the angle comparison then follows noise.
-  {
-    const double set_mm = bone_ratio(Joint::LHip) * stature + 0.5 * thigh;
-    auto lateral = [&](const std::vector<int32_t>& path) {
-      MomentAccumulator m;
-      double arc = 0;
-      for (size_t k = path.size(); k-- > 0;) {
-        if (k + 1 < path.size()) arc += (tree_.position[path[k]] - tree_.position[path[k + 1]]).norm();
-        if (arc > set_mm) break;
-        m.add(tree_.position[path[k]]);
-      }
-      return tree_.left.dot(m.centroid() - tree_.position[tree_.pelvis]);
-    };
-    const double d1 = lateral(paths[kFoot1]), d2 = lateral(paths[kFoot2]);
-    tree_.leg_margin_mm = std::abs(d1 - d2);
-    settle(kFoot1, kFoot2, d1 > d2, tree_.leg_margin_mm < params_.lr_min_margin_mm, Extremity::LFoot,
-           Extremity::RFoot);
-  }
-  for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].front();
   return true;
 }
 
-const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
-                                           const TemporalHint& hint) {
-  tree_.valid = false;
-  tree_.why = "";
-  tree_.origin = tree_.pelvis = -1;
-  tree_.quality = 0;
-  tree_.used_temporal_labels = tree_.forward_from_previous = false;
-  tree_.voxel_mm = grid.voxel_mm;
-  tree_.torso_path.clear();
-  for (auto& p : tree_.limb_path) p.clear();
-  tree_.part.clear();
+// Which of the limbs in slots a and b is left; a `weak` geometric decision defers to the
+// previous frame's positions.
+void PoseTreeBuilder::settle_sides(int a, int b, bool first_left, bool weak,
+                                   const TemporalHint& hint, Extremity hint_left,
+                                   Extremity hint_right) {
+  auto& paths = tree_.limb_path;
+  if (weak && hint.valid) {
+    const Eigen::Vector3d& p1 = tree_.position[paths[a].front()];
+    const Eigen::Vector3d& p2 = tree_.position[paths[b].front()];
+    const Eigen::Vector3d& l = hint.extremity_mm[static_cast<int>(hint_left)];
+    const Eigen::Vector3d& r = hint.extremity_mm[static_cast<int>(hint_right)];
+    first_left = (p1 - l).norm() + (p2 - r).norm() <= (p2 - l).norm() + (p1 - r).norm();
+  }
+  if (!first_left) {
+    std::swap(paths[a], paths[b]);
+    std::swap(tree_.limb_score[a], tree_.limb_score[b]);
+  }
+}
 
+// Arms, algorithm 6: lines through the nodes nearest the torso, pointing away from it.
+void PoseTreeBuilder::settle_arms(const TemporalHint& hint, double stature) {
+  const auto& paths = tree_.limb_path;
+  const double set_mm = 1.5 * bone_ratio(Joint::LSho) * stature;
+  const Eigen::Vector3d v1 = path_direction(paths[kHand1], 0, set_mm, true);
+  const Eigen::Vector3d v2 = path_direction(paths[kHand2], 0, set_mm, true);
+  const Eigen::Vector3d& f = tree_.forward;
+  const Eigen::Vector3d& l = tree_.left;
+  bool first_left;
+  double margin;
+  const double d1 = l.dot(v1), d2 = l.dot(v2);
+  if ((d1 > 0) == (d2 > 0)) {  // both to one side: the one further back (front) is left
+    const double a1 = angle_between(f, v1), a2 = angle_between(f, v2);
+    first_left = d1 > 0 ? a1 > a2 : a1 < a2;
+    margin = std::abs(a1 - a2);
+  } else {
+    const double a1 = angle_between(l, v1), a2 = angle_between(l, v2);
+    first_left = a1 < a2;
+    margin = std::abs(a1 - a2);
+  }
+  tree_.lr_margin_deg = margin / kDeg;
+  settle_sides(kHand1, kHand2, first_left, margin < params_.lr_min_margin_deg * kDeg, hint,
+               Extremity::LHand, Extremity::RHand);
+}
+
+// Legs: where the two thighs sit along the left axis, relative to the pelvis. Algorithm 6's
+// hip-line angles are unreliable here: the leg branches leave the crotch nearly parallel
+// whenever the legs are close, and the angle comparison then follows noise.
+void PoseTreeBuilder::settle_legs(const TemporalHint& hint, double stature, double thigh) {
+  const auto& paths = tree_.limb_path;
+  const double set_mm = bone_ratio(Joint::LHip) * stature + 0.5 * thigh;
+  auto lateral = [&](const std::vector<int32_t>& path) {
+    MomentAccumulator m;
+    double arc = 0;
+    for (size_t k = path.size(); k-- > 0;) {
+      if (k + 1 < path.size())
+        arc += (tree_.position[path[k]] - tree_.position[path[k + 1]]).norm();
+      if (arc > set_mm) break;
+      m.add(tree_.position[path[k]]);
+    }
+    return tree_.left.dot(m.centroid() - tree_.position[tree_.pelvis]);
+  };
+  const double d1 = lateral(paths[kFoot1]), d2 = lateral(paths[kFoot2]);
+  tree_.leg_margin_mm = std::abs(d1 - d2);
+  settle_sides(kFoot1, kFoot2, d1 > d2, tree_.leg_margin_mm < params_.lr_min_margin_mm, hint,
+               Extremity::LFoot, Extremity::RFoot);
+}
+
+const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxels,
+                                           const VoxelGridSpec& grid, const TemporalHint& hint) {
+  reset(grid.voxel_mm);
   grow_tree(voxels, grid);
   const size_t n = tree_.position.size();
   if (n < 8) {
     invalidate(n == 0 ? "no skeleton voxels" : "skeleton too small");
     return tree_;
   }
-  {
-    const Eigen::Vector3d low = grid.origin_mm.array() + (params_.edge_voxels + 1) * grid.voxel_mm;
-    const Eigen::Vector3d high =
-        grid.origin_mm.array() + (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
-    for (const Eigen::Vector3d& p : tree_.position)
-      if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() || p.z() > high.z()) {
-        invalidate("the skeleton reaches the side of the capture volume: the person is partly outside");
-        return tree_;
-      }
+  if (reaches_volume_side(grid)) {
+    invalidate("the skeleton reaches the side of the capture volume: the person is partly outside");
+    return tree_;
   }
   const double longest = longest_path();
   tree_.longest_path_mm = longest;
@@ -634,22 +693,7 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
     invalidate(branches_.size() < kNumExtremities ? "fewer than five extremities" : "no junction");
     return tree_;
   }
-
-  Ranked best = best_structural(longest);
-  if (hint.valid) {
-    const auto temporal = temporal_assignment(hint);
-    auto same_set = [&](int a, int b, const std::array<int32_t, kNumExtremities>& e) {
-      return (e[a] == best.ends[a] && e[b] == best.ends[b]) || (e[a] == best.ends[b] && e[b] == best.ends[a]);
-    };
-    if (temporal[kHeadSlot] != best.ends[kHeadSlot] || !same_set(kHand1, kHand2, temporal) ||
-        !same_set(kFoot1, kFoot2, temporal)) {
-      const Ranked t = best_for_assignment(temporal, longest);
-      if (t.quality >= best.quality - params_.temporal_quality_margin) {
-        best = t;
-        tree_.used_temporal_labels = true;
-      }
-    }
-  }
+  const Ranked best = choose_labelling(hint, longest);
   tree_.quality = best.quality;
   tree_.limb_score = best.factor;
   if (best.origin < 0) {
@@ -660,12 +704,75 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   for (size_t k = 0; k < ends_.size(); ++k)
     if (std::find(best.ends.begin(), best.ends.end(), ends_[k]) == best.ends.end())
       remove_branch(ends_[k], end_junction_[k]);
+  trace_paths(best);
 
-  // Paths to the origin; the pelvis is where the two foot paths meet.
+  const char* why = rejection(best);
+  if (why == nullptr && !orient(hint, longest / ratio::kLongestPath)) why = "no forward direction";
+  if (why != nullptr) {
+    invalidate(why);
+    const auto& paths = tree_.limb_path;
+    for (int s = 0; s < kNumExtremities; ++s)
+      tree_.extremity[s] = paths[s].empty() ? -1 : paths[s].front();
+  }
+  label_parts();
+  tree_.valid = why == nullptr;
+  return tree_;
+}
+
+void PoseTreeBuilder::reset(double voxel_mm) {
+  tree_.valid = false;
+  tree_.why = "";
+  tree_.origin = tree_.pelvis = -1;
+  tree_.quality = 0;
+  tree_.used_temporal_labels = tree_.forward_from_previous = false;
+  tree_.voxel_mm = voxel_mm;
+  tree_.torso_path.clear();
+  for (auto& p : tree_.limb_path) p.clear();
+  tree_.part.clear();
+}
+
+// A node near the sides or the top of the capture volume: the person is cut off there.
+bool PoseTreeBuilder::reaches_volume_side(const VoxelGridSpec& grid) const {
+  const Eigen::Vector3d low = grid.origin_mm.array() + (params_.edge_voxels + 1) * grid.voxel_mm;
+  const Eigen::Vector3d high =
+      grid.origin_mm.array() +
+      (grid.dims.cast<double>().array() - params_.edge_voxels - 1) * grid.voxel_mm;
+  for (const Eigen::Vector3d& p : tree_.position)
+    if (p.x() < low.x() || p.y() < low.y() || p.x() > high.x() || p.y() > high.y() ||
+        p.z() > high.z())
+      return true;
+  return false;
+}
+
+// The best structural labelling, or the previous frame's correspondence when it implies other
+// extremity classes and ranks nearly as well.
+PoseTreeBuilder::Ranked PoseTreeBuilder::choose_labelling(const TemporalHint& hint,
+                                                          double longest) {
+  Ranked best = best_structural(longest);
+  if (!hint.valid) return best;
+  const auto temporal = temporal_assignment(hint);
+  auto same_set = [&](int a, int b, const std::array<int32_t, kNumExtremities>& e) {
+    return (e[a] == best.ends[a] && e[b] == best.ends[b]) ||
+           (e[a] == best.ends[b] && e[b] == best.ends[a]);
+  };
+  if (temporal[kHeadSlot] != best.ends[kHeadSlot] || !same_set(kHand1, kHand2, temporal) ||
+      !same_set(kFoot1, kFoot2, temporal)) {
+    const Ranked t = best_for_assignment(temporal, longest);
+    if (t.quality >= best.quality - params_.temporal_quality_margin) {
+      best = t;
+      tree_.used_temporal_labels = true;
+    }
+  }
+  return best;
+}
+
+// Paths from every extremity to the origin; the pelvis is where the two foot paths meet, and
+// the torso runs from it to the origin.
+void PoseTreeBuilder::trace_paths(const Ranked& best) {
   distances_from(best.origin, true);
   auto& paths = tree_.limb_path;
   for (int s = 0; s < kNumExtremities; ++s) walk_path(best.ends[s], best.origin, paths[s]);
-  mark_.assign(n, 0);
+  mark_.assign(tree_.position.size(), 0);
   for (int32_t i : paths[kFoot1]) mark_[i] = 1;
   int32_t pelvis = best.origin;
   for (int32_t i : paths[kFoot2])
@@ -680,28 +787,15 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   }
   walk_path(pelvis, best.origin, tree_.torso_path);
   std::reverse(tree_.torso_path.begin(), tree_.torso_path.end());
+}
 
-  bool ok = true;
-  if (pelvis == best.origin) {
-    invalidate("no torso between the arms and the legs");
-    ok = false;
-  } else if (best.quality < params_.min_quality) {
-    invalidate("labelling ranks below the minimum quality");
-    ok = false;
-  } else if (*std::min_element(best.factor.begin(), best.factor.end()) < params_.min_factor) {
-    invalidate("a limb is far from its expected length");
-    ok = false;
-  }
-  if (ok && !orient(hint, longest / ratio::kLongestPath)) {
-    invalidate("no forward direction");
-    ok = false;
-  }
-  if (!ok) {
-    for (int s = 0; s < kNumExtremities; ++s) tree_.extremity[s] = paths[s].empty() ? -1 : paths[s].front();
-  }
-  label_parts();
-  tree_.valid = ok;
-  return tree_;
+// Why the labelling is not a body, or nullptr.
+const char* PoseTreeBuilder::rejection(const Ranked& best) const {
+  if (tree_.pelvis == best.origin) return "no torso between the arms and the legs";
+  if (best.quality < params_.min_quality) return "labelling ranks below the minimum quality";
+  if (*std::min_element(best.factor.begin(), best.factor.end()) < params_.min_factor)
+    return "a limb is far from its expected length";
+  return nullptr;
 }
 
 }  // namespace hullpose::pose

@@ -53,8 +53,8 @@ struct TreeParams {
   double min_factor = 0.2;
   // Left/right decisions with less angular margin than this defer to temporal correspondence
   // when a previous valid frame exists.
-  double lr_min_margin_deg = 8;   // arms: angular margin of algorithm 6
-  double lr_min_margin_mm = 30;   // legs: lateral separation of the thighs
+  double lr_min_margin_deg = 8;  // arms: angular margin of algorithm 6
+  double lr_min_margin_mm = 30;  // legs: lateral separation of the thighs
   // An upside-down labelling (origin below the pelvis) wins only if it ranks this much better
   // than the best upright one: people stand far more often than they stand on their hands, and
   // on a skeleton whose arms hang beside the legs the two readings rank alike.
@@ -91,8 +91,8 @@ struct LabelledTree {
   std::vector<int32_t> parent;            // -1 at the root
   std::vector<Part> part;
 
-  int32_t origin = -1;  // arms, neck and torso meet here
-  int32_t pelvis = -1;  // legs meet the torso here
+  int32_t origin = -1;                               // arms, neck and torso meet here
+  int32_t pelvis = -1;                               // legs meet the torso here
   std::array<int32_t, kNumExtremities> extremity{};  // node ids in Extremity order
   // Node paths from each extremity to its junction (origin for head and hands, pelvis for feet),
   // extremity first, junction last; torso path from origin to pelvis.
@@ -104,10 +104,10 @@ struct LabelledTree {
   Eigen::Vector3d left = -Eigen::Vector3d::UnitX();    // up x forward
   double voxel_mm = 0;
   double longest_path_mm = 0;
-  double quality = 0;                                 // geometric mean of rank factors, 0..1
-  std::array<double, kNumExtremities> limb_score{};   // rank factor per extremity, 0..1
-  double lr_margin_deg = 0;  // arms: algorithm 6's angular margin
-  double leg_margin_mm = 0;  // legs: lateral separation of the thighs
+  double quality = 0;                                // geometric mean of rank factors, 0..1
+  std::array<double, kNumExtremities> limb_score{};  // rank factor per extremity, 0..1
+  double lr_margin_deg = 0;                          // arms: algorithm 6's angular margin
+  double leg_margin_mm = 0;                          // legs: lateral separation of the thighs
   bool used_temporal_labels = false;
   bool forward_from_previous = false;
 };
@@ -137,7 +137,31 @@ class PoseTreeBuilder {
     std::array<double, kNumExtremities> factor{};
   };
 
+  // build()'s steps, in order.
+  void reset(double voxel_mm);
   void grow_tree(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
+  bool reaches_volume_side(const VoxelGridSpec& grid) const;
+  Ranked choose_labelling(const TemporalHint& hint, double longest);
+  void trace_paths(const Ranked& best);
+  const char* rejection(const Ranked& best) const;
+  bool orient(const TemporalHint& hint, double stature);
+  // grow_tree()'s steps.
+  void index_voxels(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
+  template <typename Visit>
+  void for_each_neighbour(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
+                          int32_t i, Visit&& visit) const;
+  int32_t largest_component_root(std::span<const Eigen::Vector3i> voxels,
+                                 const VoxelGridSpec& grid);
+  void depths_from(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
+                   int32_t root);
+  void one_node_per_depth_layer(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
+  void build_adjacency();
+  // orient()'s steps.
+  bool settle_forward(const TemporalHint& hint, double stature, double thigh);
+  void settle_arms(const TemporalHint& hint, double stature);
+  void settle_legs(const TemporalHint& hint, double stature, double thigh);
+  void settle_sides(int a, int b, bool first_left, bool weak, const TemporalHint& hint,
+                    Extremity hint_left, Extremity hint_right);
   void distances_from(int32_t source, bool alive_only);
   double longest_path();
   void collect_branches();
@@ -151,7 +175,6 @@ class PoseTreeBuilder {
   int32_t meeting_node(int32_t a, int32_t b) const;
   void walk_path(int32_t from, int32_t to, std::vector<int32_t>& out) const;
   void label_parts();
-  bool orient(const TemporalHint& hint, double stature);
   Eigen::Vector3d path_direction(const std::vector<int32_t>& path, double from_mm, double to_mm,
                                  bool from_junction) const;
   double path_length(const std::vector<int32_t>& path) const;
