@@ -95,12 +95,17 @@ Rig make_ring_rig(unsigned seed) {
     if (k < 7) {
       const double a = 2 * M_PI * k / 7 + 3 * kDeg * u(rng);
       const Eigen::Vector3d centre(4000 * std::cos(a), 4000 * std::sin(a), 2000 + 100 * u(rng));
-      c = look_at(k, centre, Eigen::Vector3d(100 * u(rng), 100 * u(rng), 900 + 100 * u(rng)),
-                  Eigen::Vector3d::UnitZ(), 2 * kDeg * u(rng));
+      // One draw per statement, in the order x86-64 GCC evaluated the arguments before (right to
+      // left): argument order is unspecified, and the rig must be the same on every architecture.
+      const double roll = 2 * kDeg * u(rng);
+      const double tz = 900 + 100 * u(rng), ty = 100 * u(rng), tx = 100 * u(rng);
+      c = look_at(k, centre, Eigen::Vector3d(tx, ty, tz), Eigen::Vector3d::UnitZ(), roll);
     } else {
-      c = look_at(k, Eigen::Vector3d(50 * u(rng), 50 * u(rng), 3600),
-                  Eigen::Vector3d(100 * u(rng), 100 * u(rng), 0), Eigen::Vector3d::UnitX(),
-                  2 * kDeg * u(rng));
+      const double roll = 2 * kDeg * u(rng);
+      const double ty = 100 * u(rng), tx = 100 * u(rng);
+      const double ey = 50 * u(rng), ex = 50 * u(rng);
+      c = look_at(k, Eigen::Vector3d(ex, ey, 3600), Eigen::Vector3d(tx, ty, 0),
+                  Eigen::Vector3d::UnitX(), roll);
     }
     c.fx = 600 + 30 * u(rng);
     c.fy = c.fx * (1 + 0.004 * u(rng));
@@ -145,9 +150,10 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
       for (int attempt = 0; attempt < 200; ++attempt) {
         const double scale = attempt < 100 ? 1.0 : 0.5;  // fall back towards the centre
         const int cell = v % 9;
+        const double jy = u(rng), jx = u(rng);  // y first: see make_ring_rig
         const Eigen::Vector2d target(
-            c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * u(rng)),
-            c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * u(rng)));
+            c.width * (0.5 + scale * 0.32 * ((cell % 3) - 1) + 0.04 * jx),
+            c.height * (0.5 + scale * 0.32 * ((cell / 3) - 1) + 0.04 * jy));
         const Eigen::Vector2d xn = c.undistort_pixel(target);
         const double dist = 1800 + 1000 * (0.5 + 0.5 * u(rng));
         const Eigen::Vector3d centre_cam = dist * Eigen::Vector3d(xn.x(), xn.y(), 1).normalized();
@@ -182,7 +188,8 @@ std::vector<PlannedView> make_capture_plan(const Rig& rig, const BoardSpec& boar
                                  std::sin(el));
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = facing_rotation(facing, 0.5 * u(rng));
-    const Eigen::Vector3d centre(1200 * u(rng), 1200 * u(rng), 1100 + 500 * u(rng));
+    const double z = 1100 + 500 * u(rng), y = 1200 * u(rng), x = 1200 * u(rng);  // z first
+    const Eigen::Vector3d centre(x, y, z);
     pose.translation() = centre - pose.linear() * board.centre_mm();
     std::snprintf(name, sizeof name, "b_shared%02d", v);
     plan.push_back({name, pose});
@@ -214,8 +221,8 @@ std::vector<cv::Point2f> project_board(const CameraModel& c, const BoardSpec& bo
   std::vector<cv::Point2f> corners;
   for (int k = 0; k < board.corner_count(); ++k) {
     const Eigen::Vector2d p = *c.project(world_from_board * board.corner_mm(k));
-    corners.emplace_back(static_cast<float>(p.x() + noise(rng)),
-                         static_cast<float>(p.y() + noise(rng)));
+    const double ny = noise(rng), nx = noise(rng);  // y first: see make_ring_rig
+    corners.emplace_back(static_cast<float>(p.x() + nx), static_cast<float>(p.y() + ny));
   }
   return corners;
 }
@@ -280,7 +287,8 @@ cv::Mat BoardRenderer::render(size_t index, const Eigen::Isometry3d& world_from_
       Eigen::Matrix2d J;  // pixels per square
       J.col(0) = (*px - *p0) / h * board_.square_mm;
       J.col(1) = (*py - *p0) / h * board_.square_mm;
-      d = J.inverse() * Eigen::Vector2d(noise(rng), noise(rng));
+      const double ny = noise(rng), nx = noise(rng);  // y first: see make_ring_rig
+      d = J.inverse() * Eigen::Vector2d(nx, ny);
     }
     disp[static_cast<size_t>(k)] = d;
   }

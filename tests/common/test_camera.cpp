@@ -20,9 +20,12 @@ CameraModel random_camera(std::mt19937& rng) {
   c.cx = 400 + 20 * u(rng);
   c.cy = 300 + 20 * u(rng);
   c.dist = {0.2 * u(rng), 0.05 * u(rng), 0.002 * u(rng), 0.002 * u(rng), 0.01 * u(rng)};
-  c.R = Eigen::AngleAxisd(M_PI * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())
-            .toRotationMatrix();
-  c.t = Eigen::Vector3d(500 * u(rng), 500 * u(rng), 4000 + 500 * u(rng));
+  // One draw per statement, last argument first: the order x86-64 GCC evaluated them in when
+  // they were one call's arguments (unspecified in C++; aarch64 goes the other way).
+  const double az = u(rng), ay = u(rng), ax = u(rng), angle = M_PI * u(rng);
+  c.R = Eigen::AngleAxisd(angle, Eigen::Vector3d(ax, ay, az).normalized()).toRotationMatrix();
+  const double tz = 4000 + 500 * u(rng), ty = 500 * u(rng), tx = 500 * u(rng);
+  c.t = Eigen::Vector3d(tx, ty, tz);
   return c;
 }
 
@@ -43,7 +46,8 @@ TEST_CASE("projection equals cv::projectPoints within 1e-6 px") {
     std::vector<Eigen::Vector3d> world;
     for (int i = 0; i < 100; ++i) {
       // Points in front of the camera, inside a ~40 degree cone so distortion stays sane.
-      const Eigen::Vector3d pc(0.35 * u(rng), 0.35 * u(rng), 1.0);
+      const double y = 0.35 * u(rng), x = 0.35 * u(rng);  // y first: see random_camera
+      const Eigen::Vector3d pc(x, y, 1.0);
       const Eigen::Vector3d pw = c.R.transpose() * (pc * (2000 + 1500 * u(rng)) - c.t);
       world.push_back(pw);
       pts.emplace_back(pw.x(), pw.y(), pw.z());
@@ -67,7 +71,8 @@ TEST_CASE("back-projection inverts projection") {
   for (int cam = 0; cam < 20; ++cam) {
     const CameraModel c = random_camera(rng);
     for (int i = 0; i < 50; ++i) {
-      const Eigen::Vector2d px(400 + 350 * u(rng), 300 + 250 * u(rng));
+      const double y = 300 + 250 * u(rng), x = 400 + 350 * u(rng);  // y first: see random_camera
+      const Eigen::Vector2d px(x, y);
       const double depth = 3000 + 1000 * u(rng);
       const Eigen::Vector3d w = c.back_project(px, depth);
       CHECK((*c.project(w) - px).norm() < 1e-6);

@@ -33,7 +33,9 @@ Rig sample_rig() {
     c.dist = {0.1 * u(rng), 0.01 * u(rng), 1e-4 * u(rng), 1e-4 * u(rng), 1e-3 * u(rng)};
     c.R = Eigen::AngleAxisd(2 * M_PI * i / 8 + 0.1 * u(rng), Eigen::Vector3d::UnitZ())
               .toRotationMatrix();
-    c.t = Eigen::Vector3d(u(rng), u(rng), 4000 + u(rng));
+    // z first: the order x86-64 GCC evaluated one call's arguments in (unspecified in C++).
+    const double tz = 4000 + u(rng), ty = u(rng), tx = u(rng);
+    c.t = Eigen::Vector3d(tx, ty, tz);
     rig.cameras.push_back(c);
   }
   return rig;

@@ -42,7 +42,9 @@ std::vector<PoseRecord> perturbed(const std::vector<PoseRecord>& truth) {
                                 -10 * std::cos(gt.frame / 30.0));
     for (size_t j = 0; j < kNumJoints; ++j) {
       const double spread = j == index(Joint::LHand) || j == index(Joint::RHand) ? 2.5 : 1.0;
-      r.joints[j] += drift + spread * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      // z first: the order x86-64 GCC evaluated one call's arguments in (unspecified in C++).
+      const double z = noise(rng), y = noise(rng), x = noise(rng);
+      r.joints[j] += drift + spread * Eigen::Vector3d(x, y, z);
     }
     out.push_back(r);
   }

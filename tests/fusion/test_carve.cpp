@@ -16,7 +16,6 @@ namespace ft = hullpose::fusion::testing;
 using ft::brute;
 using ft::fast;
 
-
 TEST_CASE("VoxelProjector is CameraModel::project rounded to the nearest pixel") {
   const Rig rig = ft::thesis_like_rig();
   std::mt19937 rng(1);
@@ -24,12 +23,15 @@ TEST_CASE("VoxelProjector is CameraModel::project rounded to the nearest pixel")
   for (const CameraModel& cam : rig.cameras) {
     const carve::VoxelProjector p(cam);
     for (int i = 0; i < 300; ++i) {
-      const Eigen::Vector3d w(u(rng), u(rng), h(rng));
+      // z first: the order x86-64 GCC evaluated one call's arguments in (unspecified in C++).
+      const double z = h(rng), y = u(rng), x = u(rng);
+      const Eigen::Vector3d w(x, y, z);
       const auto ref = cam.project(w);
       int px = -1, py = -1;
       const bool in = p.pixel(w, px, py);
       REQUIRE(ref.has_value());
-      const bool ref_in = ref->x() >= -0.5 && ref->y() >= -0.5 && ref->x() < cam.width - 0.5 && ref->y() < cam.height - 0.5;
+      const bool ref_in = ref->x() >= -0.5 && ref->y() >= -0.5 && ref->x() < cam.width - 0.5 &&
+                          ref->y() < cam.height - 0.5;
       REQUIRE(in == ref_in);
       if (in) {
         CHECK(px == static_cast<int>(std::floor(ref->x() + 0.5)));
@@ -93,8 +95,12 @@ TEST_CASE("k-of-n tolerance: a dark camera and a noisy one") {
     cv::Mat& m = noisy[2];
     std::mt19937 rng(4);
     std::uniform_int_distribution<int> px(0, m.cols - 1), py(0, m.rows - 1);
-    for (int i = 0; i < 3000; ++i) m.at<uint8_t>(py(rng), px(rng)) = static_cast<uint8_t>(i % 2 ? 255 : 0);
-    cv::rectangle(m, cv::Rect(0, m.rows / 2, m.cols, m.rows / 6), cv::Scalar(0), -1);  // a band of missed pixels
+    for (int i = 0; i < 3000; ++i) {
+      const int col = px(rng), row = py(rng);  // column first: see the projector test
+      m.at<uint8_t>(row, col) = static_cast<uint8_t>(i % 2 ? 255 : 0);
+    }
+    cv::rectangle(m, cv::Rect(0, m.rows / 2, m.cols, m.rows / 6), cv::Scalar(0),
+                  -1);  // a band of missed pixels
     const BitGrid lost = fast(strict, noisy);
     const BitGrid kept = fast(tolerant, noisy);
     CHECK(lost.count() < clean.count());
@@ -143,10 +149,18 @@ TEST_CASE("ColumnCounts decides rectangles like counting their pixels") {
   for (int round = 0; round < 40; ++round) {
     cv::Mat mask(300, 97, CV_8UC1, cv::Scalar(0));
     std::uniform_int_distribution<int> x(0, 96), y(0, 299), r(2, 40), v(1, 255);
-    for (int b = 0; b < 6; ++b) cv::circle(mask, {x(rng), y(rng)}, r(rng), cv::Scalar(v(rng)), cv::FILLED);
+    for (int b = 0; b < 6; ++b) {
+      // Last argument first, as x86-64 GCC evaluated them (see the projector test).
+      const int value = v(rng), radius = r(rng), cx = x(rng), cy = y(rng);
+      cv::circle(mask, {cx, cy}, radius, cv::Scalar(value), cv::FILLED);
+    }
     if (round % 4 == 0) mask(cv::Rect(10, 5, 60, 290)).setTo(200);  // tall all-foreground areas
     // Pixels outside the box must count as background even where the mask holds foreground.
-    const cv::Rect box = round % 3 == 0 ? cv::Rect(0, 0, 97, 300) : cv::Rect(x(rng) / 2, y(rng) / 2, 97 - x(rng) / 2, 150);
+    cv::Rect box(0, 0, 97, 300);
+    if (round % 3 != 0) {
+      const int right = x(rng), top = y(rng), left = x(rng);  // last argument first, as above
+      box = cv::Rect(left / 2, top / 2, 97 - right / 2, 150);
+    }
     const cv::Rect in_image = box & cv::Rect(0, 0, mask.cols, mask.rows);
     counts.build(mask, in_image);
     std::uniform_int_distribution<int> rx(-20, 116), ry(-20, 319);
@@ -163,10 +177,12 @@ TEST_CASE("ColumnCounts decides rectangles like counting their pixels") {
         for (int xx = x0; xx <= x1; ++xx)
           fg += in_image.contains({xx, yy}) && mask.at<uint8_t>(yy, xx) != 0;
       const long area = long{x1 - x0 + 1} * (y1 - y0 + 1);
-      const auto truth = fg == 0 ? carve::Coverage::kNone : fg == area ? carve::Coverage::kAll : carve::Coverage::kSome;
+      const auto truth = fg == 0      ? carve::Coverage::kNone
+                         : fg == area ? carve::Coverage::kAll
+                                      : carve::Coverage::kSome;
       const auto got = counts.cover(x0, y0, x1, y1);
-      INFO("round " << round << " box " << in_image << " rectangle [" << x0 << ", " << x1 << "] x [" << y0 << ", " << y1
-                    << "]: " << fg << " of " << area);
+      INFO("round " << round << " box " << in_image << " rectangle [" << x0 << ", " << x1 << "] x ["
+                    << y0 << ", " << y1 << "]: " << fg << " of " << area);
       if (y1 - y0 + 1 > 255 && truth == carve::Coverage::kAll)
         CHECK(got == carve::Coverage::kSome);  // documented: conservative over 255 rows
       else

@@ -26,7 +26,10 @@ FuzzResult fuzz(thin::ZeroCliqueTest zero, int cases, int clique_checks, uint32_
   FuzzResult r;
   fusion::BitGrid y;
   for (int i = 0; i < cases; ++i) {
-    const fusion::BitGrid x = ft::random_noise(rng, {side(rng), side(rng), side(rng)}, density(rng), 1);
+    // Density first: the order x86-64 GCC evaluated the arguments in (unspecified in C++).
+    const double d = density(rng);
+    const int sx = side(rng), sy = side(rng), sz = side(rng);
+    const fusion::BitGrid x = ft::random_noise(rng, {sx, sy, sz}, d, 1);
     y = x;
     thinner.thin(y);
     if (labeller.invariants(y) != labeller.invariants(x)) ++r.topology_failures;

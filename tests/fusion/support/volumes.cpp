@@ -76,8 +76,8 @@ BitGrid trefoil_tube(double s, double radius, int m) {
   const double c = (n - 1) / 2.0;
   for (int i = 0; i < 600; ++i) {
     const double t = 2 * M_PI * i / 600;
-    pts.emplace_back(c + s * (std::sin(t) + 2 * std::sin(2 * t)), c + s * (std::cos(t) - 2 * std::cos(2 * t)),
-                     c - s * std::sin(3 * t));
+    pts.emplace_back(c + s * (std::sin(t) + 2 * std::sin(2 * t)),
+                     c + s * (std::cos(t) - 2 * std::cos(2 * t)), c - s * std::sin(3 * t));
   }
   return make_volume({n, n, n}, [&](double x, double y, double z) {
     for (const auto& p : pts)
@@ -90,8 +90,12 @@ BitGrid random_blobs(std::mt19937& rng, int size, int blobs) {
   std::uniform_real_distribution<double> pos(4, size - 5), rad(1.5, size / 5.0);
   std::vector<std::pair<Eigen::Vector3d, double>> b;
   for (int i = 0; i < blobs; ++i) {
-    Eigen::Vector3d c(pos(rng), pos(rng), pos(rng));
-    double r = std::min(rad(rng), std::min({c.x(), c.y(), c.z(), size - 3 - c.x(), size - 3 - c.y(), size - 3 - c.z()}) - 2);
+    // z first: the order x86-64 GCC evaluated one call's arguments in (unspecified in C++).
+    const double z = pos(rng), y = pos(rng), x = pos(rng);
+    const Eigen::Vector3d c(x, y, z);
+    double r = std::min(
+        rad(rng),
+        std::min({c.x(), c.y(), c.z(), size - 3 - c.x(), size - 3 - c.y(), size - 3 - c.z()}) - 2);
     b.emplace_back(c, std::max(r, 1.0));
   }
   return make_volume({size, size, size}, [&](double x, double y, double z) {
@@ -104,7 +108,8 @@ BitGrid random_blobs(std::mt19937& rng, int size, int blobs) {
 BitGrid random_noise(std::mt19937& rng, const Eigen::Vector3i& dims, double density, int m) {
   std::bernoulli_distribution on(density);
   return make_volume(dims + Eigen::Vector3i::Constant(2 * m), [&](double x, double y, double z) {
-    const bool in = x >= m && y >= m && z >= m && x < dims.x() + m && y < dims.y() + m && z < dims.z() + m;
+    const bool in =
+        x >= m && y >= m && z >= m && x < dims.x() + m && y < dims.y() + m && z < dims.z() + m;
     return in && on(rng);
   });
 }
@@ -138,7 +143,8 @@ BitGrid apply(const Isometry& g, const BitGrid& v) {
 namespace {
 
 template <typename F>
-int bfs_components(const Eigen::Vector3i& d, const std::function<bool(int, int, int)>& in, bool adj26, F&& on_comp) {
+int bfs_components(const Eigen::Vector3i& d, const std::function<bool(int, int, int)>& in,
+                   bool adj26, F&& on_comp) {
   std::vector<uint8_t> seen(static_cast<size_t>(d.prod()), 0);
   auto idx = [&](int x, int y, int z) { return (static_cast<size_t>(z) * d.y() + y) * d.x() + x; };
   int n = 0;
@@ -153,7 +159,8 @@ int bfs_components(const Eigen::Vector3i& d, const std::function<bool(int, int, 
         while (!q.empty()) {
           const Eigen::Vector3i p = q.front();
           q.pop_front();
-          if (p.minCoeff() == 0 || p.x() == d.x() - 1 || p.y() == d.y() - 1 || p.z() == d.z() - 1) touches_border = true;
+          if (p.minCoeff() == 0 || p.x() == d.x() - 1 || p.y() == d.y() - 1 || p.z() == d.z() - 1)
+            touches_border = true;
           for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
               for (int dx = -1; dx <= 1; ++dx) {
@@ -175,11 +182,13 @@ int bfs_components(const Eigen::Vector3i& d, const std::function<bool(int, int, 
 
 RefInvariants reference_invariants(const BitGrid& v) {
   RefInvariants r;
-  r.components = bfs_components(v.dims(), [&](int x, int y, int z) { return v.get(x, y, z); }, true, [](bool) {});
+  r.components = bfs_components(
+      v.dims(), [&](int x, int y, int z) { return v.get(x, y, z); }, true, [](bool) {});
   // Background on the grid grown by one voxel: the outside touches the grown border.
   const Eigen::Vector3i g = v.dims() + Eigen::Vector3i::Constant(2);
-  bfs_components(g, [&](int x, int y, int z) { return !v.get_or_zero(x - 1, y - 1, z - 1); }, false,
-                 [&](bool border) { r.cavities += border ? 0 : 1; });
+  bfs_components(
+      g, [&](int x, int y, int z) { return !v.get_or_zero(x - 1, y - 1, z - 1); }, false,
+      [&](bool border) { r.cavities += border ? 0 : 1; });
   // Khalimsky grid: voxel (x,y,z) is the cell (2x+1, 2y+1, 2z+1); a cell is in the closure iff an
   // adjacent voxel is set; dimension = number of odd coordinates.
   const Eigen::Vector3i d = v.dims();
@@ -190,8 +199,8 @@ RefInvariants reference_invariants(const BitGrid& v) {
         for (int vz = (k - 1) / 2; vz <= k / 2 && !present; ++vz)
           for (int vy = (j - 1) / 2; vy <= j / 2 && !present; ++vy)
             for (int vx = (i - 1) / 2; vx <= i / 2 && !present; ++vx)
-              if (std::abs(2 * vx + 1 - i) <= 1 && std::abs(2 * vy + 1 - j) <= 1 && std::abs(2 * vz + 1 - k) <= 1 &&
-                  v.get_or_zero(vx, vy, vz))
+              if (std::abs(2 * vx + 1 - i) <= 1 && std::abs(2 * vy + 1 - j) <= 1 &&
+                  std::abs(2 * vz + 1 - k) <= 1 && v.get_or_zero(vx, vy, vz))
                 present = true;
         if (present) r.euler += ((i & 1) + (j & 1) + (k & 1)) % 2 == 0 ? 1 : -1;
       }
@@ -202,7 +211,8 @@ bool reference_simple(const BitGrid& v, int x, int y, int z) {
   bool a[3][3][3];
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) a[dz + 1][dy + 1][dx + 1] = v.get_or_zero(x + dx, y + dy, z + dz);
+      for (int dx = -1; dx <= 1; ++dx)
+        a[dz + 1][dy + 1][dx + 1] = v.get_or_zero(x + dx, y + dy, z + dz);
   auto count = [&](bool object, bool adj26, bool only18, bool need_face) {
     bool seen[3][3][3] = {};
     int n = 0;
@@ -264,7 +274,8 @@ int crucial_cliques_missed(const BitGrid& X, const BitGrid& Y) {
             bool w[3][3];
             for (int i = -1; i <= 1; ++i)
               for (int j = -1; j <= 1; ++j)
-                w[i + 1][j + 1] = (i != 0 || j != 0) && (x(p + i * u + j * v) || x(p + e + i * u + j * v));
+                w[i + 1][j + 1] =
+                    (i != 0 || j != 0) && (x(p + i * u + j * v) || x(p + e + i * u + j * v));
             auto comps = [&](bool val, bool adj8, bool need4) {
               bool seen[3][3] = {};
               int n = 0;
@@ -282,7 +293,8 @@ int crucial_cliques_missed(const BitGrid& X, const BitGrid& Y) {
                     const int ti = t % 3, tj = t / 3;
                     const int dist = std::abs(ti - ci) + std::abs(tj - cj);
                     if (t == 4 || seen[ti][tj] || w[ti][tj] != val) continue;
-                    if (std::max(std::abs(ti - ci), std::abs(tj - cj)) != 1 || (!adj8 && dist != 1)) continue;
+                    if (std::max(std::abs(ti - ci), std::abs(tj - cj)) != 1 || (!adj8 && dist != 1))
+                      continue;
                     seen[ti][tj] = true;
                     st.push_back({ti, tj});
                   }
