@@ -5,7 +5,6 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #if HULLPOSE_HAVE_LIBGPIOD
@@ -14,6 +13,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/trigger_line_spec.hpp"
 
 namespace hullpose::trigger {
 
@@ -136,27 +136,14 @@ class WireEdgeSource final : public EdgeSource {
 
 std::unique_ptr<EdgeSource> open_edge_source(const std::string& spec, const NodeClock& clock,
                                              int connect_timeout_ms) {
-  if (spec.rfind("wire:", 0) == 0)
-    return std::make_unique<WireEdgeSource>(spec.substr(5), clock, connect_timeout_ms);
-  if (spec.rfind("gpiod:", 0) == 0) {
-    const auto colon = spec.rfind(':');
-    HULLPOSE_THROW_UNLESS(colon > 6, "trigger input '" << spec << "': expected gpiod:CHIP:OFFSET");
-    const std::string offset = spec.substr(colon + 1);
-    HULLPOSE_THROW_UNLESS(
-        !offset.empty() && offset.size() < 6 &&
-            std::all_of(offset.begin(), offset.end(), ::isdigit),
-        "trigger input '" << spec << "': offset '" << offset << "' is not a line number");
+  const TriggerLineSpec line = parse_trigger_line_spec(spec, "trigger input", false);
+  if (line.kind == TriggerLineSpec::Kind::kWire)
+    return std::make_unique<WireEdgeSource>(line.path, clock, connect_timeout_ms);
 #if HULLPOSE_HAVE_LIBGPIOD
-    return std::make_unique<GpiodEdgeSource>(spec.substr(6, colon - 6),
-                                             static_cast<unsigned>(std::stoul(offset)), clock);
+  return std::make_unique<GpiodEdgeSource>(line.chip, line.offset, clock);
 #else
-    HULLPOSE_THROW("trigger input '"
-                   << spec
-                   << "': this build has no libgpiod (install libgpiod-dev and configure "
-                      "with -DHULLPOSE_GPIOD=ON); without the trigger GPIO use wire:PATH");
+  throw_no_libgpiod(spec, "trigger input", "wire:PATH");
 #endif
-  }
-  HULLPOSE_THROW("trigger input '" << spec << "': expected gpiod:CHIP:OFFSET or wire:PATH");
 }
 
 }  // namespace hullpose::trigger

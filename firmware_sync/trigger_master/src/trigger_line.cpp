@@ -16,6 +16,7 @@
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/trigger_line_spec.hpp"
 
 namespace hullpose::sync {
 HULLPOSE_LOG_CATEGORY(Line, "trigger_line")
@@ -135,28 +136,20 @@ class WireTriggerLine final : public TriggerLine {
 }  // namespace
 
 std::unique_ptr<TriggerLine> open_trigger_line(const std::string& spec) {
-  if (spec == "sim") return std::make_unique<SimTriggerLine>();
-  if (spec.rfind("wire:", 0) == 0) return std::make_unique<WireTriggerLine>(spec.substr(5));
-  if (spec.rfind("gpiod:", 0) == 0) {
-    const auto colon = spec.rfind(':');
-    HULLPOSE_THROW_UNLESS(colon > 6, "trigger line '" << spec << "': expected gpiod:CHIP:OFFSET");
-    const std::string chip = spec.substr(6, colon - 6);
-    const std::string offset = spec.substr(colon + 1);
-    HULLPOSE_THROW_UNLESS(
-        !offset.empty() && std::all_of(offset.begin(), offset.end(), ::isdigit) &&
-            offset.size() < 6,
-        "trigger line '" << spec << "': offset '" << offset << "' is not a line number");
-#if HULLPOSE_HAVE_LIBGPIOD
-    return std::make_unique<GpiodTriggerLine>(chip, static_cast<unsigned>(std::stoul(offset)));
-#else
-    HULLPOSE_THROW(
-        "trigger line '"
-        << spec
-        << "': this build has no libgpiod (install libgpiod-dev and configure "
-           "with -DHULLPOSE_GPIOD=ON); without the trigger GPIO use --line wire:PATH or sim");
-#endif
+  const TriggerLineSpec line = parse_trigger_line_spec(spec, "trigger line", true);
+  switch (line.kind) {
+    case TriggerLineSpec::Kind::kSim:
+      return std::make_unique<SimTriggerLine>();
+    case TriggerLineSpec::Kind::kWire:
+      return std::make_unique<WireTriggerLine>(line.path);
+    case TriggerLineSpec::Kind::kGpiod:
+      break;
   }
-  HULLPOSE_THROW("trigger line '" << spec << "': expected gpiod:CHIP:OFFSET, wire:PATH or sim");
+#if HULLPOSE_HAVE_LIBGPIOD
+  return std::make_unique<GpiodTriggerLine>(line.chip, line.offset);
+#else
+  throw_no_libgpiod(spec, "trigger line", "--line wire:PATH or sim");
+#endif
 }
 
 }  // namespace hullpose::sync
