@@ -1,6 +1,4 @@
 // hullpose-camera-node --config FILE: one camera's capture -> silhouette -> LCM process.
-#include <atomic>
-#include <csignal>
 #include <string>
 
 #include "hullpose/camera_node/camera_node.hpp"
@@ -9,11 +7,6 @@
 #include "hullpose/common/tool.hpp"
 
 namespace {
-std::atomic<bool> g_stop{false};
-void on_signal(int) {
-  g_stop.store(true);
-}
-
 int run(int argc, const char* const* argv) {
   using namespace hullpose;
   std::string config;
@@ -29,10 +22,9 @@ int run(int argc, const char* const* argv) {
   const camera_node::NodeConfig node_config = camera_node::load_node_config(config);
   const std::unique_ptr<bus::Bus> bus = camera_node::open_node_bus(node_config);
   camera_node::CameraNode node(node_config, *bus);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   node.start();
-  node.run(g_stop);
+  node.run(stop_flag());
   node.stop();
   return 0;
 }

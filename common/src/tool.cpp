@@ -1,5 +1,6 @@
 #include "hullpose/common/tool.hpp"
 
+#include <csignal>
 #include <exception>
 #include <iostream>
 
@@ -7,6 +8,26 @@
 #include "hullpose/common/log.hpp"
 
 namespace hullpose {
+namespace {
+
+// Lock-free, so the signal handler may set it.
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+void on_stop_signal(int) { g_stop.store(true); }
+
+}  // namespace
+
+void catch_stop_signals() {
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+}
+
+bool stop_requested() { return g_stop.load(); }
+
+void request_stop() { g_stop.store(true); }
+
+const std::atomic<bool>& stop_flag() { return g_stop; }
 
 int run_tool(const char* tool, int argc, const char* const* argv, const ToolBody& body,
              std::ostream& err) {

@@ -2,7 +2,6 @@
 #include <poll.h>
 #include <unistd.h>
 
-#include <csignal>
 #include <cstdio>
 #include <hullpose_msg/node_status_t.hpp>
 #include <iostream>
@@ -22,11 +21,6 @@
 #include "hullpose/msg/wire.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 const char* kUsage =
     "usage: hullpose-trigger-master --rig-id ID [--rate HZ=30] [--pulse-us US=1000]\n"
     "         [--line gpiod:CHIP:OFFSET|wire:PATH|sim] [--lcm-url URL] [--rig-key FILE] [--count "
@@ -117,8 +111,8 @@ class StdinControl {
         in >> hz;
         master.set_rate(hz);
       } else if (cmd == "quit") {
-        g_stop = 1;
-        master.start();  // wakes a stopped master so that run() sees g_stop
+        hullpose::request_stop();
+        master.start();  // wakes a stopped master so that run() sees the stop
       } else {
         std::cerr << "hullpose-trigger-master: unknown command '" << cmd << "'\n";
       }
@@ -162,8 +156,7 @@ int run(int argc, const char* const* argv) {
       o.master, *line, clock,
       [&](const hullpose_msg::trigger_t& t) { hullpose::wire::publish(*bus, "TRIGGER", t, buf); },
       hullpose::sync::new_epoch());
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   std::optional<StdinControl> control;
   if (o.control_stdin) control.emplace(master);
   HULLPOSE_LOG(Main, Info) << "rig " << o.master.rig_id << ": " << o.master.rate_hz << " Hz on "
@@ -174,7 +167,7 @@ int run(int argc, const char* const* argv) {
       publish_status(*bus, master, o.master.rig_id, line->describe());
       next_status += 1'000'000;
     }
-    return !g_stop && (o.count == 0 || master.next_seq() < o.count);
+    return !hullpose::stop_requested() && (o.count == 0 || master.next_seq() < o.count);
   });
   publish_status(*bus, master, o.master.rig_id, line->describe());
   std::fprintf(stderr,

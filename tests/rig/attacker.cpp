@@ -11,7 +11,6 @@
 //   4 the genuine message with one byte of its body changed and its own trailer (tampering)
 // Seeded, so a run is reproducible; its own messages come back to it and are ignored.
 //   rig_attacker --lcm-url URL [--factor N=10] [--duration-s S] [--seed N]
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -33,11 +32,6 @@
 #include "seq_pattern.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 using hullpose::auth::kTrailerSize;
 
 class Attacker {
@@ -158,10 +152,9 @@ int main(int argc, char** argv) {
     Attacker attacker(bus, static_cast<int>(factor), static_cast<uint32_t>(seed));
     for (const char* channel : {"TRIGGER", "SILHOUETTE", "SKELETON"})
       bus.subscribe(channel, &Attacker::on_message, &attacker)->setQueueCapacity(1000);
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
+    hullpose::catch_stop_signals();
     const int64_t end = hullpose::monotonic_us() + static_cast<int64_t>(duration_s * 1e6);
-    while (!g_stop && hullpose::monotonic_us() < end) bus.handleTimeout(100);
+    while (!hullpose::stop_requested() && hullpose::monotonic_us() < end) bus.handleTimeout(100);
     std::fprintf(stderr, "rig_attacker: heard %lld genuine messages, published %lld forged ones\n",
                  attacker.heard(), attacker.sent());
     return 0;

@@ -13,7 +13,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <csignal>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -24,11 +23,6 @@
 #include "hullpose/common/tool.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 sockaddr_in parse_endpoint(const std::string& what, const std::string& text) {
   const auto colon = text.rfind(':');
   HULLPOSE_THROW_UNLESS(colon != std::string::npos,
@@ -79,8 +73,7 @@ int main(int argc, char** argv) {
     const unsigned char ttl = 0, loop = 1;
     setsockopt(out, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl);
     setsockopt(out, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop);
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
+    hullpose::catch_stop_signals();
 
     std::vector<uint8_t> buf(65536), held;
     long long received = 0, swapped = 0, duplicated = 0;
@@ -88,7 +81,7 @@ int main(int argc, char** argv) {
       sendto(out, b.data(), n, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
     };
     const int64_t end = hullpose::monotonic_us() + static_cast<int64_t>(duration_s * 1e6);
-    while (!g_stop && hullpose::monotonic_us() < end) {
+    while (!hullpose::stop_requested() && hullpose::monotonic_us() < end) {
       pollfd p{in, POLLIN, 0};
       if (poll(&p, 1, 20) <= 0) {
         if (!held.empty()) send(held, held.size()), held.clear();

@@ -4,7 +4,6 @@
 // run is reproducible. Its own messages come back to it (multicast loopback) and are recognised
 // and ignored, so it answers the camera only.
 //   rig_hostile_sender --lcm-url URL --camera-id C [--duration-s S] [--seed N]
-#include <csignal>
 #include <cstdio>
 #include <functional>
 #include <hullpose_msg/silhouette_t.hpp>
@@ -21,11 +20,6 @@
 #include "hullpose/msg/wire.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 class Hostile {
  public:
   Hostile(hullpose::bus::Bus& bus, int camera_id, uint32_t seed)
@@ -91,10 +85,9 @@ int run(int argc, const char* const* argv) {
       bus->subscribe("SILHOUETTE", [&hostile](std::span<const uint8_t> bytes, const std::string&) {
         hostile.on_message(bytes);
       });
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   const int64_t end = hullpose::monotonic_us() + static_cast<int64_t>(duration_s * 1e6);
-  while (!g_stop && hullpose::monotonic_us() < end) bus->handle(100);
+  while (!hullpose::stop_requested() && hullpose::monotonic_us() < end) bus->handle(100);
   std::fprintf(
       stderr,
       "rig_hostile_sender: answered %lld silhouettes of camera %d with %lld hostile messages\n",

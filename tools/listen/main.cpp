@@ -1,7 +1,6 @@
 // hullpose-listen: prints or records the rig's skeletons (CSV or JSON lines) with latency
 // statistics. Raw traffic is recorded with lcm-logger and replayed with lcm-logplayer
 // (tests/rig/lcm_log_replay_test.sh shows the round trip into the fusion host).
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -19,11 +18,6 @@
 #include "hullpose/msg/wire.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 const char* kUsage =
     "usage: hullpose-listen [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--format "
     "csv|jsonl|none] "
@@ -109,13 +103,12 @@ int run(int argc, const char* const* argv) {
       o.channel, [&l](std::span<const uint8_t> bytes, const std::string&) { l.on_skeleton(bytes); },
       1000);
   if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   const int64_t start = hullpose::monotonic_us();
   const int64_t end =
       o.duration_s > 0 ? start + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
   int64_t next_live = start + 1'000'000;
-  while (!g_stop && hullpose::monotonic_us() < end &&
+  while (!hullpose::stop_requested() && hullpose::monotonic_us() < end &&
          (o.count == 0 || l.stats.received() < o.count)) {
     bus->handle(100);
     const int64_t now = hullpose::monotonic_us();

@@ -1,6 +1,5 @@
 // hullpose-stream: SKELETON to animation tools. Outputs chosen on the command line, any together:
 // VMC over OSC (Unity / VTuber tools), BVH motion lines over TCP (a server) and/or UDP.
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -17,11 +16,6 @@
 #include "hullpose/stream/bridges.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 const char* kUsage =
     "usage: hullpose-stream [--lcm-url URL] [--rig-key FILE] [--channel SKELETON] [--rig-id ID]\n"
     "         [--vmc HOST:PORT] [--bvh-tcp PORT [--bvh-bind 0.0.0.0]] [--bvh-udp HOST:PORT] "
@@ -100,18 +94,17 @@ int run(int argc, const char* const* argv) {
     std::ofstream ready(o.ready_file);
     ready << nlohmann::json{{"bvh_tcp_port", tcp ? tcp->port() : -1}}.dump() << "\n";
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   const int64_t end =
       o.duration_s > 0 ? start + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
   if (tcp) {
     // With a TCP server, LCM is read on its I/O thread (every output is sent from there):
     // no hop between threads on the way to the clients' sockets.
     tcp->watch_readable(sub.fd(), [&] { sub.poll(0); });
-    while (!g_stop && hullpose::monotonic_us() < end)
+    while (!hullpose::stop_requested() && hullpose::monotonic_us() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
   } else {
-    while (!g_stop && hullpose::monotonic_us() < end) sub.poll(100);
+    while (!hullpose::stop_requested() && hullpose::monotonic_us() < end) sub.poll(100);
   }
 
   nlohmann::json stats = {{"frames", frames}, {"invalid", invalid}};

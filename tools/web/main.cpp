@@ -1,6 +1,5 @@
 // hullpose-web: the live 3D view of the rig in a browser (SKELETON + STATUS over LCM), or the
 // playback of a recorded take (--play). Open the printed URL.
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -15,11 +14,6 @@
 #include "hullpose/web/web_server.hpp"
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 const char* kUsage =
     "usage: hullpose-web [--rig FILE] [--lcm-url URL] [--rig-key FILE] [--rig-id ID] [--port 8080] "
     "[--bind 0.0.0.0] "
@@ -70,8 +64,7 @@ int run(int argc, const char* const* argv) {
     std::ofstream(ready_file) << nlohmann::json{{"port", server.port()}, {"url", url}}.dump()
                               << "\n";
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hullpose::catch_stop_signals();
   const int64_t start = hullpose::monotonic_us();
   const int64_t end = duration_s > 0 ? start + static_cast<int64_t>(duration_s * 1e6) : INT64_MAX;
   if (!play.empty()) {
@@ -79,7 +72,7 @@ int run(int argc, const char* const* argv) {
     HULLPOSE_THROW_UNLESS(!take.frames.empty(), play << ": no frames");
     const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / take.fps));
     auto next = std::chrono::steady_clock::now();
-    for (size_t i = 0; !g_stop && hullpose::monotonic_us() < end; ++i) {
+    for (size_t i = 0; !hullpose::stop_requested() && hullpose::monotonic_us() < end; ++i) {
       if (i == take.frames.size()) {
         if (once) break;
         i = 0;
@@ -96,7 +89,7 @@ int run(int argc, const char* const* argv) {
     // LCM is read on the server's I/O thread: a pose reaches the browsers' sockets without a hop
     // between threads (make bench: tools/bench/peers/consumers_latency.sh).
     server.watch_readable(live.fd(), [&] { live.poll(0); });
-    while (!g_stop && hullpose::monotonic_us() < end)
+    while (!hullpose::stop_requested() && hullpose::monotonic_us() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     server.stop();  // before `live` goes: its socket is watched on the server's thread
   }

@@ -1,4 +1,3 @@
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -8,15 +7,11 @@
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/log.hpp"
 #include "hullpose/common/time.hpp"
+#include "hullpose/common/tool.hpp"
 #include "hullpose/fusion_host/fusion_service.hpp"
 
 namespace hullpose::fusion {
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
-
 struct Options {
   std::string rig_file;
   std::string lcm_url;
@@ -90,11 +85,10 @@ int service_main(
   auto pipeline = make_pipeline(rig, o.pipeline);
   FusionService service(*bus, system_clock(), rig, *pipeline, o.service);
   if (!o.ready_file.empty()) std::ofstream(o.ready_file) << "ready\n";
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  catch_stop_signals();
   const int64_t end =
       o.duration_s > 0 ? monotonic_us() + static_cast<int64_t>(o.duration_s * 1e6) : INT64_MAX;
-  service.run([&] { return !g_stop && monotonic_us() < end; });
+  service.run([&] { return !stop_requested() && monotonic_us() < end; });
   std::fprintf(stderr, "%s: %lld skeletons published;", tool,
                static_cast<long long>(service.skeletons_published()));
   for (const Counters* c : {&service.assembler().counters(), &service.counters()})

@@ -8,6 +8,7 @@
 //   hullpose::Error        -> "<tool>: error: <message>",          exit 2 (bad input, named)
 //   other std::exception   -> "<tool>: internal error: <message>", exit 3 (a bug or the system)
 // `body` returns the exit code (0, or 1 for "ran, but the result is a failure").
+#include <atomic>
 #include <functional>
 #include <iosfwd>
 
@@ -18,5 +19,14 @@ int run_tool(const char* tool, int argc, const char* const* argv, const ToolBody
 // The same, with the error lines written to `err` (tests).
 int run_tool(const char* tool, int argc, const char* const* argv, const ToolBody& body,
              std::ostream& err);
+
+// Stopping on SIGINT / SIGTERM, for the programs that run until told to: call
+// catch_stop_signals() once set-up is done (a Ctrl-C during set-up still ends the program at
+// once), then loop while !stop_requested(). request_stop() is the same from inside the program
+// (a 'quit' command); stop_flag() is the flag itself, for loops that take one.
+void catch_stop_signals();
+bool stop_requested();
+void request_stop();
+const std::atomic<bool>& stop_flag();
 
 }  // namespace hullpose
