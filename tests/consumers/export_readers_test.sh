@@ -14,14 +14,8 @@ set -euo pipefail
 build=$(cd "$1" && pwd)
 shared=$2
 here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d /tmp/hullpose-export.XXXXXX)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
+source "$here/../system/proc_lib.sh"
+proc_init export
 export_tool="$build/tools/export/hullpose-export"
 gt_as_estimates() {  # ground_truth.csv -> estimate layout (frame,valid,reason,...)
   /usr/bin/python3 -c "

@@ -7,18 +7,11 @@
 set -euo pipefail
 build=$(cd "$1" && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d /tmp/hullpose-stream.XXXXXX)
+source "$here/../system/proc_lib.sh"
+proc_init stream
 base=$(( 9200 + $$ % 500 ))
 url="udpm://239.255.76.71:$base?ttl=0"
 osc=$(( base + 1 )) udp=$(( base + 2 ))
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-wait_for() { local n=0; until [[ -s $1 ]]; do ((n++ < 400)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 port_of() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['bvh_tcp_port'])" "$1"; }
 frames=30 valid=27
 
@@ -26,10 +19,10 @@ frames=30 valid=27
 oscdump -L "$osc" > "$work/osc.txt" 2> "$work/oscdump.log" & oscdump=$!; pids+=($oscdump)
 "$build/tools/stream/hullpose-stream" --lcm-url "$url" --vmc "127.0.0.1:$osc" --bvh-tcp 0 --bvh-bind 127.0.0.1 --bvh-format plain \
   --ready-file "$work/a.json" --stats "$work/a.stats.json" 2> "$work/a.log" & stream=$!; pids+=($stream)
-wait_for "$work/a.json"
+wait_for_data "$work/a.json"
 /usr/bin/python3 "$here/bvh_client.py" tcp "$(port_of "$work/a.json")" --format plain --frames $valid --ready "$work/a.client" \
   --out "$work/a.client.json" & client=$!; pids+=($client)
-wait_for "$work/a.client"
+wait_for_data "$work/a.client"
 "$build/tests/consumers/consumers_sim_rig" --lcm-url "$url" --count $frames
 wait "$client"
 kill "$stream"; wait "$stream" || true
@@ -60,11 +53,11 @@ PY
 # Run B: Axis Neuron framing over TCP and UDP.
 "$build/tools/stream/hullpose-stream" --lcm-url "$url" --bvh-tcp 0 --bvh-bind 127.0.0.1 --bvh-udp "127.0.0.1:$udp" --bvh-format axis \
   --ready-file "$work/b.json" --stats "$work/b.stats.json" 2> "$work/b.log" & stream=$!; pids+=($stream)
-wait_for "$work/b.json"
+wait_for_data "$work/b.json"
 /usr/bin/python3 "$here/bvh_client.py" tcp "$(port_of "$work/b.json")" --format axis --frames $valid --channels "$channels" \
   --ready "$work/b.tcp" & tcp=$!; pids+=($tcp)
 /usr/bin/python3 "$here/bvh_client.py" udp "$udp" --format axis --frames $valid --channels "$channels" --ready "$work/b.udp" & udpc=$!; pids+=($udpc)
-wait_for "$work/b.tcp"; wait_for "$work/b.udp"
+wait_for_data "$work/b.tcp"; wait_for_data "$work/b.udp"
 "$build/tests/consumers/consumers_sim_rig" --lcm-url "$url" --count $frames
 wait "$tcp"; wait "$udpc"
 kill "$stream"; wait "$stream" || true

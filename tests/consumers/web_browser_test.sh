@@ -8,19 +8,12 @@
 set -euo pipefail
 build=$(cd "$1" && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d /tmp/hullpose-web.XXXXXX)
+source "$here/../system/proc_lib.sh"
+proc_init web
 shots=${2:-$work}
 mkdir -p "$shots"
 port=$(( 7600 + $$ % 300 ))
 url="udpm://239.255.76.69:$port?ttl=0"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-wait_for() { local n=0; until [[ -s $1 ]]; do ((n++ < 400)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 field() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
 
 # Live: the rig file first (hullpose-web draws its cameras), then the server, then the rig.
@@ -28,7 +21,7 @@ field() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]
 lcm-logger --lcm-url="$url" -f "$work/take.lcmlog" 2> "$work/logger.log" & logger=$!; pids+=($logger)
 "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --lcm-url "$url" --port 0 --ready-file "$work/web.json" \
   2> "$work/web.log" & web=$!; pids+=($web)
-wait_for "$work/web.json"
+wait_for_data "$work/web.json"
 "$build/tests/consumers/consumers_sim_rig" --lcm-url "$url" --rate 30 --count 100000 2> "$work/rig.log" & rig=$!; pids+=($rig)
 /usr/bin/python3 "$here/browser_check.py" "$(field "$work/web.json" url)" "$shots/web.png" --min-skeletons 30 | tee "$work/live.json"
 grep -q '"panel_rows": 9' "$work/live.json" || { echo "FAIL: the panel does not list 8 cameras + the fusion host"; exit 1; }
@@ -38,6 +31,6 @@ kill -INT "$logger"; wait "$logger" || true
 # Playback of the recorded take, no LCM.
 "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --play "$work/take.lcmlog" --port 0 --ready-file "$work/play.json" \
   2> "$work/play.log" & play=$!; pids+=($play)
-wait_for "$work/play.json"
+wait_for_data "$work/play.json"
 /usr/bin/python3 "$here/browser_check.py" "$(field "$work/play.json" url)" "$shots/web-playback.png" --min-skeletons 10
 echo "PASS: screenshots in $shots"

@@ -12,15 +12,9 @@ build=$(cd "$1" && pwd)
 frames=${2:-10} rate=${3:-5} num=4
 here=$(cd "$(dirname "$0")" && pwd)
 src=$(cd "$here/../.." && pwd)
-work=$(mktemp -d /tmp/hullpose-package-test.XXXXXX)
+source "$here/../system/proc_lib.sh"
+proc_init package-test
 root=$work/root
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 # 1. The packages.
@@ -94,15 +88,14 @@ for ((c = 0; c < num; c++)); do
   mv "$etc/camera$c.yaml.new" "$etc/camera$c.yaml"
 done
 run_unit() { local log=$1; shift; "$here/run_unit.py" "$root" "$@" --pre-log "$work/pre.log" 2> "$log" & pids+=($!); }
-wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 600)) || fail "no $1"; sleep 0.05; done; }
 
 "$bin/hullpose-listen" --lcm-url "$url" --format none --count "$frames" --estimates "$work/live.csv" \
   --summary "$work/summary.json" --duration-s 120 --ready-file "$work/listen.ready" 2> "$work/listen.log" & listener=$!
 pids+=($listener)
 run_unit "$work/host.log" hullpose-fusion-host.service
-wait_for "$work/listen.ready"; wait_for "$work/host.ready"
+wait_for "$work/listen.ready" 30; wait_for "$work/host.ready" 30
 run_unit "$work/master.log" hullpose-trigger-master.service; master=${pids[-1]}
-wait_for "$work/wire.sock"
+wait_for "$work/wire.sock" 30
 for ((c = 0; c < num; c++)); do run_unit "$work/cam$c.log" hullpose-camera-node@.service --instance "$c"; done
 wait "$master" || { cat "$work/master.log" "$work"/cam*.log; fail "trigger master (from its unit)"; }
 wait "$listener" || true

@@ -6,17 +6,10 @@
 # usage: lcm_log_replay_test.sh BUILD_DIR
 set -euo pipefail
 build=$(cd "$1" && pwd)
-work=$(mktemp -d /tmp/hullpose-logreplay.XXXXXX)
+source "$(dirname "$0")/../system/proc_lib.sh"
+proc_init logreplay
 port_a=$(( 8000 + $$ % 400 )) port_b=$(( 8400 + $$ % 400 ))
 url_a="udpm://239.255.76.68:$port_a?ttl=0" url_b="udpm://239.255.76.68:$port_b?ttl=0"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 200)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 
 "$build/tests/rig/rig_write_test_rig" "$work/rig.yaml" 3 96 72 rigA 90
 "$(dirname "$0")/../../tools/demo/node-configs.sh" "$work" 3 "$work/rig.yaml" "$url_a" "$work/wire.sock" masks:seq

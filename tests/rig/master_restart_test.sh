@@ -5,17 +5,10 @@
 # Real processes over loopback LCM. usage: master_restart_test.sh BUILD_DIR
 set -euo pipefail
 build=$(cd "$1" && pwd)
-work=$(mktemp -d /tmp/hullpose-restart.XXXXXX)
+source "$(dirname "$0")/../system/proc_lib.sh"
+proc_init restart
 port=$(( 8800 + $$ % 300 ))
 url="udpm://239.255.76.69:$port?ttl=0"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 200)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 master() {
   "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id rigA --rate 30 --line "wire:$work/wire.sock" \
     --lcm-url "$url" --count 60 2>> "$work/master.log"

@@ -7,8 +7,9 @@
 #   wait_until SECONDS CMD...                      poll a condition (fails the test on timeout)
 #   rows FILE / have_rows FILE N                   data rows of a CSV written by hullpose-listen
 #   sample_start FILE PERIOD_S / sample_stop       RSS and CPU time of every spawned process
+#   wait_for FILE [SECONDS] ...                    and the rest of proc_lib.sh
 # Conditions are polled, never slept for: tests assert on what the processes wrote, not on time.
-set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/proc_lib.sh"
 
 rig_init() {
   build=$(cd "$1" && pwd)
@@ -21,9 +22,8 @@ rig_init() {
   prefix="${3:-hp}$(( $$ % 100000 ))"
   port=$(( 7500 + $$ % 400 ))
   url="udpm://239.255.76.67:$port?ttl=1"
-  work=$(mktemp -d "/tmp/hullpose-$2.XXXXXX")
+  proc_init "$2"
   wire="$work/wire.sock"
-  pids=()
   : > "$work/pids"
   sampler=""
   trap rig_cleanup EXIT
@@ -31,10 +31,9 @@ rig_init() {
 
 rig_cleanup() {
   [[ -n $sampler ]] && kill "$sampler" 2>/dev/null || true
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
+  kill_started
   "$netns" destroy "$prefix" || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
+  drop_work
 }
 
 spawn() {

@@ -13,26 +13,9 @@
 # a view dropped as late would change the answer; latency is make bench's business.
 # usage: rig_netns_accuracy_test.sh BUILD_DIR [FRAMES=300] [RATE=30]
 set -euo pipefail
-build=$(cd "$1" && pwd)
+source "$(dirname "$0")/rig_lib.sh"
+rig_init "$1" netns-acc ha
 frames=${2:-300} rate=${3:-30} num=8
-root=$(cd "$(dirname "$0")/../.." && pwd)
-netns="$root/deploy/netns-rig.sh"
-if [[ $(id -u) -ne 0 ]] || ! ip netns add "hpchk$$" 2>/dev/null; then echo "SKIP: network namespaces need root"; exit 77; fi
-ip netns del "hpchk$$"
-prefix="ha$(( $$ % 100000 ))"
-port=$(( 7500 + $$ % 200 ))
-url="udpm://239.255.76.67:$port?ttl=1"
-work=$(mktemp -d /tmp/hullpose-netns-acc.XXXXXX)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  "$netns" destroy "$prefix" || true
-  if [[ ${KEEP_WORK:-0} == 1 ]]; then echo "work dir: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-spawn() { local log=$1 ns=$2; shift 2; ip netns exec "$prefix-$ns" "$@" 2>> "$log" & spawned=$!; pids+=("$spawned"); }
-wait_for() { local n=0; until [[ -e $1 ]]; do ((n++ < 1200)) || { echo "FAIL: no $1"; exit 1; }; sleep 0.05; done; }
 
 "$build/tools/synth/hullpose-synth" --motion walk --frames "$frames" --fps "$rate" --out "$work/data" --seed 1 > /dev/null
 "$netns" create "$prefix" "$num" > /dev/null
@@ -44,7 +27,7 @@ host=$spawned
 spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format none --count "$frames" \
   --estimates "$work/live.csv" --summary "$work/summary.json" --duration-s "$seconds" --ready-file "$work/listen.ready"
 listener=$spawned
-wait_for "$work/host.ready"; wait_for "$work/listen.ready"
+wait_for "$work/host.ready" 60; wait_for "$work/listen.ready" 60
 spawn "$work/master.log" master "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$work/data/rig.yaml" | tr -d '"')" \
   --rate "$rate" --line "wire:$work/wire.sock" --lcm-url "$url" --count "$frames" --wait-nodes "$num"
 master=$spawned
