@@ -27,6 +27,7 @@
 #include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
+#include "skeleton_pacer.hpp"
 
 namespace asio = boost::asio;
 using asio::ip::tcp;
@@ -136,21 +137,13 @@ int run(int argc, const char* const* argv) {
 
   const auto m = hullpose::synth::make_builtin_motion("walk", {});
   hullpose::skeleton_io::SkeletonFrame f;
-  hullpose_msg::skeleton_t msg;
-  std::vector<uint8_t> scratch;
-  const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
-  auto next = std::chrono::steady_clock::now();
-  const int64_t utime0 = hullpose::realtime_utime();
+  f.valid = true;
+  f.confidence.fill(1.f);
+  hullpose::consumers_test::SkeletonPacer pacer(*bus, "bench", rate);
   for (size_t k = 0; k < n; ++k) {
     m->sample(static_cast<double>(k) / rate, f.joints);
-    f.seq = static_cast<int64_t>(k);
-    f.utime = utime0 + static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);
-    f.valid = true;
-    f.confidence.fill(1.f);
-    hullpose::skeleton_io::to_message(f, "bench", msg);
-    hullpose::wire::publish(*bus, "SKELETON", msg, scratch);
-    next += period;
-    std::this_thread::sleep_until(next);
+    pacer.publish(static_cast<int64_t>(k), f);
+    pacer.wait_next();
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // stragglers
   stop = true;

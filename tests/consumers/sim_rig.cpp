@@ -18,6 +18,7 @@
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
 #include "hullpose/synth/rig_gen.hpp"
+#include "skeleton_pacer.hpp"
 
 int run(int argc, const char* const* argv) {
   std::string url, motion = "walk", rig_out, wait_file;
@@ -37,7 +38,6 @@ int run(int argc, const char* const* argv) {
   const hullpose::Rig rig = hullpose::synth::rig_from_name_or_file("thesis8");
   if (!rig_out.empty()) hullpose::save_rig(rig, rig_out);
   const auto bus = hullpose::bus::open_bus(url);
-  std::vector<uint8_t> scratch;
   hullpose::synth::MotionOptions mo;
   mo.centre_mm = 0.5 * (rig.volume.min_mm + rig.volume.max_mm);
   mo.centre_mm.z() = 0;
@@ -46,15 +46,9 @@ int run(int argc, const char* const* argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
 
   hullpose::skeleton_io::SkeletonFrame f;
-  hullpose_msg::skeleton_t msg;
-  const auto period = std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
-  auto next = std::chrono::steady_clock::now();
-  const int64_t start_utime = hullpose::realtime_utime();
+  hullpose::consumers_test::SkeletonPacer pacer(*bus, rig.rig_id, rate);
   for (long long k = 0; k < count; ++k) {
     m->sample(static_cast<double>(k) / 30.0, f.joints);
-    f.seq = k;
-    f.utime = start_utime +
-              static_cast<int64_t>(static_cast<double>(k) * 1e6 / rate);  // the trigger clock
     f.valid = invalid_every <= 0 || (k + 1) % invalid_every != 0;
     f.reason = f.valid ? 0 : hullpose_msg::skeleton_t::REASON_TOO_FEW_CAMERAS;
     for (size_t j = 0; j < hullpose::kNumJoints; ++j)
@@ -62,8 +56,7 @@ int run(int argc, const char* const* argv) {
     f.num_cameras_used = f.valid ? 8 : 3;
     f.cameras_used_mask = f.valid ? 0xFF : 0x07;
     f.published_us = 42'000 + static_cast<int32_t>(k % 7) * 1000;
-    hullpose::skeleton_io::to_message(f, rig.rig_id, msg);
-    hullpose::wire::publish(*bus, "SKELETON", msg, scratch);
+    pacer.publish(k, f);
     if (k % static_cast<long long>(rate) == 0) {
       for (int c = -1; c < static_cast<int>(rig.cameras.size()); ++c) {
         hullpose_msg::node_status_t s{};
@@ -83,11 +76,10 @@ int run(int argc, const char* const* argv) {
         s.counter_value =
             c < 0 ? std::vector<int64_t>{0} : std::vector<int64_t>{c, 150 + 10 * c, 400 + 20 * c};
         s.num_counters = static_cast<int32_t>(s.counter_name.size());
-        hullpose::wire::publish(*bus, "STATUS", s, scratch);
+        hullpose::wire::publish(*bus, "STATUS", s, pacer.scratch());
       }
     }
-    next += period;
-    std::this_thread::sleep_until(next);  // the rig's trigger clock
+    pacer.wait_next();
   }
   return 0;
 }
