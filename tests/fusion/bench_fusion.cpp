@@ -1,8 +1,8 @@
 // Fusion core benchmarks (issue 4) on CMU 55_01 (the thesis' dance-whirl) rendered by
 // hullpose_synth with the thesis rig (8 cameras, 800x600): 8 frames spread over the clip, one
 // frame per benchmark iteration in turn.
-//   carve/N        hierarchical carving, 1 thread        peer: carve_brute/N (brute force, 1 thread)
-//   ck3/N          CK3 (thesis curve rule), 1 thread     peer: skimage/skeletonize_3d/N
+//   carve/N        hierarchical carving, 1 thread        peer: carve_brute/N (brute force, 1
+//   thread) ck3/N          CK3 (thesis curve rule), 1 thread     peer: skimage/skeletonize_3d/N
 //   ck3/N/threads:2
 //   d6i1d/N        D6I1D, 1 thread                       peer: skimage/skeletonize_3d/N
 //   fusion/N       carve + clean-up + CK3 + skeleton list, 1 thread (goal: 1 ms at 64, 5 ms at 128)
@@ -26,8 +26,8 @@
 #include "hullpose/fusion/fusion_core.hpp"
 #include "hullpose/gpu/backend.hpp"
 #include "hullpose/gpu/cuda_fusion.hpp"
-#include "support/fusion_bench.hpp"
 #include "support/cmu_scene.hpp"
+#include "support/fusion_bench.hpp"
 
 namespace {
 
@@ -37,18 +37,20 @@ using ft::cpu_now_ms;
 
 struct Scene {
   Rig rig;
-  std::vector<std::vector<cv::Mat>> views;     // [frame][camera]
-  std::vector<std::vector<PixelRoi>> boxes;    // foreground boxes, as the silhouette codec's header gives them
+  std::vector<std::vector<cv::Mat>> views;  // [frame][camera]
+  std::vector<std::vector<PixelRoi>>
+      boxes;  // foreground boxes, as the silhouette codec's header gives them
   std::unique_ptr<carve::Carver> carver;
-  std::vector<fusion::BitGrid> hulls;          // carved and cleaned, per frame
+  std::vector<fusion::BitGrid> hulls;  // carved and cleaned, per frame
 };
 
 // Writes a uint8 volume as .npy, C order (z, y, x).
 void write_npy(const fusion::BitGrid& v, const std::filesystem::path& path) {
   std::filesystem::create_directories(path.parent_path());
   const Eigen::Vector3i d = v.dims();
-  std::string header = "{'descr': '|u1', 'fortran_order': False, 'shape': (" + std::to_string(d.z()) + ", " +
-                       std::to_string(d.y()) + ", " + std::to_string(d.x()) + "), }";
+  std::string header = "{'descr': '|u1', 'fortran_order': False, 'shape': (" +
+                       std::to_string(d.z()) + ", " + std::to_string(d.y()) + ", " +
+                       std::to_string(d.x()) + "), }";
   while ((10 + header.size() + 1) % 64 != 0) header += ' ';
   header += '\n';
   std::ofstream f(path, std::ios::binary);
@@ -93,7 +95,8 @@ Scene& scene(int resolution) {
       s->carver->carve(s->views[f], hull, report);
       cleanup.apply(hull, stats);
       write_npy(hull, std::filesystem::path(HULLPOSE_BINARY_DIR) / "bench" / "volumes" /
-                          ("hull_" + std::to_string(resolution) + "_f" + std::to_string(cmu().frames[f]) + ".npy"));
+                          ("hull_" + std::to_string(resolution) + "_f" +
+                           std::to_string(cmu().frames[f]) + ".npy"));
     }
   }
   return *s;
@@ -144,9 +147,10 @@ void carve_brute(benchmark::State& state, int res) {
   state.counters["voxels"] = static_cast<double>(hull_voxels_all_frames(s, true));
 }
 
-void ck3(benchmark::State& state, int res, int threads) {
-  Scene& s = scene(res);
-  thin::Ck3Thinner thinner({thin::CurveRule::kCk3, thin::ZeroCliqueTest::kSpan3, threads, 0});
+// Thins the scene's hulls in turn, one per iteration (copying the hull is timed with it);
+// sets cpu_ms and returns the last frame's statistics.
+template <typename Thinner>
+thin::ThinStats thin_hulls(benchmark::State& state, const Scene& s, Thinner& thinner) {
   fusion::BitGrid v;
   thin::ThinStats st;
   size_t f = 0;
@@ -157,6 +161,13 @@ void ck3(benchmark::State& state, int res, int threads) {
     f = (f + 1) % s.hulls.size();
   }
   state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / static_cast<double>(state.iterations());
+  return st;
+}
+
+void ck3(benchmark::State& state, int res, int threads) {
+  Scene& s = scene(res);
+  thin::Ck3Thinner thinner({thin::CurveRule::kCk3, thin::ZeroCliqueTest::kSpan3, threads, 0});
+  const thin::ThinStats st = thin_hulls(state, s, thinner);
   state.counters["hull_voxels"] = static_cast<double>(st.initial_voxels);
   state.counters["skeleton_voxels"] = static_cast<double>(st.final_voxels);
   state.counters["thin_iterations"] = st.iterations;
@@ -167,16 +178,7 @@ void ck3(benchmark::State& state, int res, int threads) {
 void d6i1d(benchmark::State& state, int res) {
   Scene& s = scene(res);
   thin::D6i1dThinner thinner;
-  fusion::BitGrid v;
-  thin::ThinStats st;
-  size_t f = 0;
-  const double cpu0 = cpu_now_ms();
-  for (auto _ : state) {
-    v = s.hulls[f];
-    st = thinner.thin(v);
-    f = (f + 1) % s.hulls.size();
-  }
-  state.counters["cpu_ms"] = (cpu_now_ms() - cpu0) / static_cast<double>(state.iterations());
+  const thin::ThinStats st = thin_hulls(state, s, thinner);
   state.counters["skeleton_voxels"] = static_cast<double>(st.final_voxels);
   state.counters["thin_iterations"] = st.iterations;
   state.SetLabel("peer=skimage/skeletonize_3d/" + std::to_string(res));
@@ -238,20 +240,27 @@ void cuda_ck3(benchmark::State& state, int res) {
 const bool registered = [] {
   for (int res : {64, 128}) {
     const std::string r = std::to_string(res);
-    benchmark::RegisterBenchmark(("carve/" + r).c_str(), carve_fast, res)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("carve_brute/" + r).c_str(), carve_brute, res)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("carve/" + r).c_str(), carve_fast, res)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("carve_brute/" + r).c_str(), carve_brute, res)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("ck3/" + r).c_str(), ck3, res, 1)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("ck3/" + r + "/threads:2").c_str(), ck3, res, 2)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("ck3/" + r + "/threads:2").c_str(), ck3, res, 2)
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("d6i1d/" + r).c_str(), d6i1d, res)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("fusion/" + r).c_str(), fusion_core, res, 1)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("fusion/" + r + "/threads:2").c_str(), fusion_core, res, 2)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("fusion/" + r).c_str(), fusion_core, res, 1)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("fusion/" + r + "/threads:2").c_str(), fusion_core, res, 2)
+        ->Unit(benchmark::kMillisecond);
   }
   // The CUDA backend where a device is present (bench_fusion runs unchanged without one).
   if (gpu::probe_device().available)
     for (int res : {64, 128, 256}) {
       const std::string r = std::to_string(res);
-      benchmark::RegisterBenchmark(("cuda/carve/" + r).c_str(), cuda_carve, res)->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark(("cuda/ck3/" + r).c_str(), cuda_ck3, res)->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("cuda/carve/" + r).c_str(), cuda_carve, res)
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("cuda/ck3/" + r).c_str(), cuda_ck3, res)
+          ->Unit(benchmark::kMillisecond);
     }
   return true;
 }();

@@ -14,15 +14,7 @@ using namespace hullpose::pose;
 using namespace hullpose::pose::test;
 
 std::vector<Eigen::Vector3i> walking_skeleton(const VoxelGridSpec& g) {
-  Limbs walk = t_pose();
-  walk.l_upper_arm = {0.2, 0.4, -1};
-  walk.l_forearm = {0.1, 0.8, -0.6};
-  walk.r_upper_arm = {-0.2, -0.4, -1};
-  walk.r_forearm = {-0.1, 0.2, -1};
-  walk.l_thigh = {0, 0.5, -1};
-  walk.l_shin = {0, -0.1, -1};
-  walk.r_thigh = {0, -0.3, -1};
-  walk.r_shin = {0, -0.6, -1};
+  const Limbs walk = walking();
   auto voxels = rasterise(g, stick_figure(1750, walk, {35, 0, 0, 0}));
   add_spurs(g, voxels, 20, g.dims.maxCoeff() >= 128 ? 5 : 3, 11);  // spurs up to ~80 mm
   return voxels;

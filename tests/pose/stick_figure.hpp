@@ -20,7 +20,22 @@ struct Limbs {
   Eigen::Vector3d r_thigh{0, 0, -1}, r_shin{0, 0, -1};
 };
 
-inline Limbs t_pose() { return {}; }
+inline Limbs t_pose() {
+  return {};
+}
+// Mid-stride: arms swinging, one leg forward (test_model_fit, bench_pose).
+inline Limbs walking() {
+  Limbs walk = t_pose();
+  walk.l_upper_arm = {0.2, 0.4, -1};
+  walk.l_forearm = {0.1, 0.8, -0.6};
+  walk.r_upper_arm = {-0.2, -0.4, -1};
+  walk.r_forearm = {-0.1, 0.2, -1};
+  walk.l_thigh = {0, 0.5, -1};
+  walk.l_shin = {0, -0.1, -1};
+  walk.r_thigh = {0, -0.3, -1};
+  walk.r_shin = {0, -0.6, -1};
+  return walk;
+}
 
 // World placement: the body frame turned by `yaw_deg` about z (0: facing +y, left = -x), then
 // by `roll_deg` about the facing direction (180: upside down), the lowest joint 40 mm above
@@ -68,9 +83,11 @@ inline JointPositions stick_figure(double stature, const Limbs& limbs, const Pla
 
   // Body frame -> world: facing +y means left = -x.
   const double deg = M_PI / 180;
-  const Eigen::Matrix3d to_world_axes = (Eigen::Matrix3d() << -1, 0, 0, 0, 1, 0, 0, 0, 1).finished();
+  const Eigen::Matrix3d to_world_axes =
+      (Eigen::Matrix3d() << -1, 0, 0, 0, 1, 0, 0, 0, 1).finished();
   const Eigen::Matrix3d R = Eigen::AngleAxisd(at.yaw_deg * deg, V::UnitZ()).toRotationMatrix() *
-                            Eigen::AngleAxisd(at.roll_deg * deg, V::UnitY()).toRotationMatrix() * to_world_axes;
+                            Eigen::AngleAxisd(at.roll_deg * deg, V::UnitY()).toRotationMatrix() *
+                            to_world_axes;
   JointPositions w;
   double min_z = 1e9;
   for (int j = 0; j < kNumJoints; ++j) {
@@ -102,8 +119,8 @@ inline Eigen::Vector3i voxel_of(const VoxelGridSpec& g, const Eigen::Vector3d& p
 }
 
 // Voxels along segments, sampled at a quarter voxel, duplicates removed.
-inline void rasterise_segment(const VoxelGridSpec& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                              std::vector<Eigen::Vector3i>& out) {
+inline void rasterise_segment(const VoxelGridSpec& g, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, std::vector<Eigen::Vector3i>& out) {
   const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (g.voxel_mm / 4))));
   for (int s = 0; s <= steps; ++s) {
     const Eigen::Vector3i v = voxel_of(g, a + (b - a) * (static_cast<double>(s) / steps));
@@ -119,17 +136,19 @@ inline void dedupe(std::vector<Eigen::Vector3i>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-inline std::vector<Eigen::Vector3i> rasterise(const VoxelGridSpec& g, const JointPositions& joints) {
+inline std::vector<Eigen::Vector3i> rasterise(const VoxelGridSpec& g,
+                                              const JointPositions& joints) {
   std::vector<Eigen::Vector3i> out;
-  for (const Bone& b : kBones) rasterise_segment(g, joints[index(b.parent)], joints[index(b.child)], out);
+  for (const Bone& b : kBones)
+    rasterise_segment(g, joints[index(b.parent)], joints[index(b.child)], out);
   dedupe(out);
   return out;
 }
 
 // Adds `count` short spurious branches (2..max_voxels long) at random skeleton voxels, in
 // random directions: the noise thinning leaves on a real hull.
-inline void add_spurs(const VoxelGridSpec& g, std::vector<Eigen::Vector3i>& voxels, int count, int max_voxels,
-                      uint32_t seed) {
+inline void add_spurs(const VoxelGridSpec& g, std::vector<Eigen::Vector3i>& voxels, int count,
+                      int max_voxels, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<size_t> pick(0, voxels.size() - 1);
   std::uniform_int_distribution<int> length(2, max_voxels);

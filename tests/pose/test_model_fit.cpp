@@ -176,15 +176,7 @@ TEST_CASE("other stick poses are fitted closely at 128^3 and 64^3") {
   arm_up.l_forearm = {0, 0, 1};
   arm_up.r_upper_arm = {-0.4, 0.1, -1};
   arm_up.r_forearm = {-0.2, 0.4, -1};
-  Limbs walk = t_pose();
-  walk.l_upper_arm = {0.2, 0.4, -1};
-  walk.l_forearm = {0.1, 0.8, -0.6};
-  walk.r_upper_arm = {-0.2, -0.4, -1};
-  walk.r_forearm = {-0.1, 0.2, -1};
-  walk.l_thigh = {0, 0.5, -1};
-  walk.l_shin = {0, -0.1, -1};
-  walk.r_thigh = {0, -0.3, -1};
-  walk.r_shin = {0, -0.6, -1};
+  const Limbs walk = walking();
   for (int res : {128, 64}) {
     const VoxelGridSpec g = grid_tall(res);
     for (const Limbs& limbs : {arm_up, walk}) {

@@ -59,6 +59,20 @@ struct Rect {
   }
 };
 
+// Every voxel of the grid with its centre and its finest node, visited in parallel by z-slabs
+// of finest nodes: all voxels of one node go to one thread, so per-node writes need no lock.
+template <typename Plan, typename Visit>
+void for_each_voxel_by_finest_node(const VoxelGridSpec& grid, const Plan& p, Visit&& visit) {
+  const Eigen::Vector3i d = grid.dims;
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
+  for (int nz = 0; nz < p.nodes[0].z(); ++nz)
+    for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
+      for (int y = 0; y < d.y(); ++y)
+        for (int x = 0; x < d.x(); ++x)
+          visit(x, y, z, grid.centre_mm({x, y, z}),
+                p.node_index(0, x / p.finest, y / p.finest, nz));
+}
+
 }  // namespace
 
 struct Carver::Precomputed {
@@ -137,24 +151,18 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
   for (int l = 0; l < kLevels; ++l)
     p.rects[static_cast<size_t>(l)].assign(p.node_count(l) * static_cast<size_t>(ncam), Rect{});
   // Finest level from every voxel centre, with the projector the reference uses.
-  const Eigen::Vector3i d = grid_.dims;
   std::vector<Rect>& fine = p.rects[0];
-#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
-  for (int nz = 0; nz < p.nodes[0].z(); ++nz)
-    for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
-      for (int y = 0; y < d.y(); ++y)
-        for (int x = 0; x < d.x(); ++x) {
-          const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
-          const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
-          for (int c = 0; c < ncam; ++c) {
-            Rect& r = fine[node * static_cast<size_t>(ncam) + static_cast<size_t>(c)];
-            int px, py;
-            if (projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
-              r.add(px, py);
-            else
-              r.unseen = 1;
-          }
+  for_each_voxel_by_finest_node(
+      grid_, p, [&](int, int, int, const Eigen::Vector3d& centre, size_t node) {
+        for (int c = 0; c < ncam; ++c) {
+          Rect& r = fine[node * static_cast<size_t>(ncam) + static_cast<size_t>(c)];
+          int px, py;
+          if (projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
+            r.add(px, py);
+          else
+            r.unseen = 1;
         }
+      });
   // Per-voxel pixel table, relative to the finest rectangles just computed.
   const size_t f3 = static_cast<size_t>(p.finest) * p.finest * p.finest;
   if (fine.size() * f3 * sizeof(uint16_t) <= kMaxPixelTableBytes) {
@@ -163,23 +171,18 @@ Carver::Carver(const Rig& rig, const CarveOptions& options)
     for (size_t i = 0; i < fine.size(); ++i)
       p.wide[i] = fine[i].x0 <= fine[i].x1 &&
                   (fine[i].x1 - fine[i].x0 > 254 || fine[i].y1 - fine[i].y0 > 254);
-#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, omp_get_num_procs()))
-    for (int nz = 0; nz < p.nodes[0].z(); ++nz)
-      for (int z = nz * p.finest; z < std::min(d.z(), (nz + 1) * p.finest); ++z)
-        for (int y = 0; y < d.y(); ++y)
-          for (int x = 0; x < d.x(); ++x) {
-            const Eigen::Vector3d centre = grid_.centre_mm({x, y, z});
-            const size_t node = p.node_index(0, x / p.finest, y / p.finest, nz);
-            const size_t local = static_cast<size_t>(
-                ((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
-            for (int c = 0; c < ncam; ++c) {
-              const size_t nc = node * static_cast<size_t>(ncam) + static_cast<size_t>(c);
-              int px, py;
-              if (!p.wide[nc] && projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
-                p.pixels[nc * f3 + local] =
-                    static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
-            }
+    for_each_voxel_by_finest_node(
+        grid_, p, [&](int x, int y, int z, const Eigen::Vector3d& centre, size_t node) {
+          const size_t local = static_cast<size_t>(
+              ((z % p.finest) * p.finest + y % p.finest) * p.finest + x % p.finest);
+          for (int c = 0; c < ncam; ++c) {
+            const size_t nc = node * static_cast<size_t>(ncam) + static_cast<size_t>(c);
+            int px, py;
+            if (!p.wide[nc] && projectors_[static_cast<size_t>(c)].pixel(centre, px, py))
+              p.pixels[nc * f3 + local] =
+                  static_cast<uint16_t>((py - fine[nc].y0) << 8 | (px - fine[nc].x0));
           }
+        });
   }
   for (int l = 1; l < kLevels; ++l) {
     const Eigen::Vector3i& m = p.nodes[static_cast<size_t>(l - 1)];

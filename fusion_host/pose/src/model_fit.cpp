@@ -17,7 +17,8 @@ constexpr double kHipLateral = 0.643, kHipForward = 0.295, kHipDown = 0.707;
 
 double bone_between(Joint a, Joint b) {
   for (const Bone& bone : kBones)
-    if ((bone.parent == a && bone.child == b) || (bone.parent == b && bone.child == a)) return bone.stature_ratio;
+    if ((bone.parent == a && bone.child == b) || (bone.parent == b && bone.child == a))
+      return bone.stature_ratio;
   return 0;
 }
 
@@ -25,16 +26,26 @@ double bone_between(Joint a, Joint b) {
 Joint side(Joint left_joint, bool right) {
   if (!right) return left_joint;
   switch (left_joint) {
-    case Joint::LSho: return Joint::RSho;
-    case Joint::LElb: return Joint::RElb;
-    case Joint::LHand: return Joint::RHand;
-    case Joint::LFTip: return Joint::RFTip;
-    case Joint::LHip: return Joint::RHip;
-    case Joint::LKne: return Joint::RKne;
-    case Joint::LAnk: return Joint::RAnk;
-    case Joint::LFoot: return Joint::RFoot;
-    case Joint::LToe: return Joint::RToe;
-    default: return left_joint;
+    case Joint::LSho:
+      return Joint::RSho;
+    case Joint::LElb:
+      return Joint::RElb;
+    case Joint::LHand:
+      return Joint::RHand;
+    case Joint::LFTip:
+      return Joint::RFTip;
+    case Joint::LHip:
+      return Joint::RHip;
+    case Joint::LKne:
+      return Joint::RKne;
+    case Joint::LAnk:
+      return Joint::RAnk;
+    case Joint::LFoot:
+      return Joint::RFoot;
+    case Joint::LToe:
+      return Joint::RToe;
+    default:
+      return left_joint;
   }
 }
 
@@ -43,13 +54,21 @@ Joint side(Joint left_joint, bool right) {
 // ---------------------------------------------------------------------------------------------
 // SHAKE
 
-Shake::Shake() { inv_mass_.fill(1.0); }
+Shake::Shake() {
+  inv_mass_.fill(1.0);
+}
 
-void Shake::set_bone_lengths(const std::array<double, kNumBones>& lengths_mm) { length_ = lengths_mm; }
+void Shake::set_bone_lengths(const std::array<double, kNumBones>& lengths_mm) {
+  length_ = lengths_mm;
+}
 
-void Shake::set_mass(Joint j, double mass) { inv_mass_[index(j)] = 1.0 / mass; }
+void Shake::set_mass(Joint j, double mass) {
+  inv_mass_[index(j)] = 1.0 / mass;
+}
 
-void Shake::clear_targets() { target_count_.fill(0); }
+void Shake::clear_targets() {
+  target_count_.fill(0);
+}
 
 void Shake::add_line(Joint j, const Line& line, double weight) {
   int& n = target_count_[index(j)];
@@ -77,7 +96,8 @@ double Shake::target_distance(Joint j, const Eigen::Vector3d& p) const {
 }
 
 // One Gauss-Seidel sweep of algorithm 1 over all bones; returns the largest length error seen.
-double Shake::sweep_bones(JointPositions& x, const std::array<Eigen::Vector3d, kNumBones>& reference) const {
+double Shake::sweep_bones(JointPositions& x,
+                          const std::array<Eigen::Vector3d, kNumBones>& reference) const {
   double worst = 0;
   for (int b = 0; b < kNumBones; ++b) {
     const int p = index(kBones[b].parent), c = index(kBones[b].child);
@@ -102,7 +122,8 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
   Result result;
   std::array<Eigen::Vector3d, kNumBones> reference;
   auto take_reference = [&] {
-    for (int b = 0; b < kNumBones; ++b) reference[b] = x[index(kBones[b].parent)] - x[index(kBones[b].child)];
+    for (int b = 0; b < kNumBones; ++b)
+      reference[b] = x[index(kBones[b].parent)] - x[index(kBones[b].child)];
   };
   for (int it = 0; it < params.max_iterations; ++it) {
     take_reference();
@@ -160,7 +181,8 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
 ModelFitter::ModelFitter(FitParams params) : params_(params) {
   // The tips are where the skeleton is most reliable: heavier, so bone corrections move the
   // inner joints rather than pulling the tips off their points.
-  for (Joint j : {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe, Joint::RToe}) shake_.set_mass(j, params_.tip_mass);
+  for (Joint j : {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe, Joint::RToe})
+    shake_.set_mass(j, params_.tip_mass);
 }
 
 void ModelFitter::compute_arcs(const LabelledTree& tree, const std::vector<int32_t>& path) const {
@@ -174,16 +196,19 @@ void ModelFitter::compute_arcs(const LabelledTree& tree, const std::vector<int32
 
 // Point at arc length `arc_mm` along the path (arcs from compute_arcs); beyond either end the
 // path is extended straight along its last few voxels.
-Eigen::Vector3d ModelFitter::at_arc(const LabelledTree& tree, const std::vector<int32_t>& path, double arc_mm) const {
+Eigen::Vector3d ModelFitter::at_arc(const LabelledTree& tree, const std::vector<int32_t>& path,
+                                    double arc_mm) const {
   const size_t n = path.size();
   const double total = arc_.back();
   const double span = std::min(total, 3 * tree.voxel_mm);
   auto interpolate = [&](double a) {
-    const size_t k = static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), a) - arc_.begin());
+    const size_t k =
+        static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), a) - arc_.begin());
     if (k == 0) return tree.position[path.front()];
     if (k >= n) return tree.position[path.back()];
     const double t = (a - arc_[k - 1]) / std::max(1e-9, arc_[k] - arc_[k - 1]);
-    return Eigen::Vector3d(tree.position[path[k - 1]] + t * (tree.position[path[k]] - tree.position[path[k - 1]]));
+    return Eigen::Vector3d(tree.position[path[k - 1]] +
+                           t * (tree.position[path[k]] - tree.position[path[k - 1]]));
   };
   if (n == 1 || span <= 0) return tree.position[path.front()];
   if (arc_mm < 0) {
@@ -200,8 +225,8 @@ Eigen::Vector3d ModelFitter::at_arc(const LabelledTree& tree, const std::vector<
   return interpolate(arc_mm);
 }
 
-bool ModelFitter::group_line(const LabelledTree& tree, const std::vector<int32_t>& path, double from_mm,
-                             double to_mm, Line& line) const {
+bool ModelFitter::group_line(const LabelledTree& tree, const std::vector<int32_t>& path,
+                             double from_mm, double to_mm, Line& line) const {
   MomentAccumulator m;
   Eigen::Vector3d first = Eigen::Vector3d::Zero(), last = first;
   for (size_t k = 0; k < path.size(); ++k) {
@@ -210,7 +235,8 @@ bool ModelFitter::group_line(const LabelledTree& tree, const std::vector<int32_t
     last = tree.position[path[k]];
     m.add(tree.position[path[k]]);
   }
-  if (m.count() < 3 || (last - first).norm() < params_.min_group_voxels * tree.voxel_mm) return false;
+  if (m.count() < 3 || (last - first).norm() < params_.min_group_voxels * tree.voxel_mm)
+    return false;
   line = fit_line(m);
   return true;
 }
@@ -249,10 +275,12 @@ double ModelFitter::frame_stature(const LabelledTree& tree) const {
                                         bone_ratio(Joint::Neck) * s};
     const std::array<double, 3> arm = {bone_ratio(Joint::LFTip) * s, bone_ratio(Joint::LHand) * s,
                                        bone_ratio(Joint::LElb) * s};
-    const double legs = 0.5 * (chord_sum(tree, path(Extremity::LFoot), leg, -params_.foot_end_ratio * s) +
-                               chord_sum(tree, path(Extremity::RFoot), leg, -params_.foot_end_ratio * s));
-    const double arms = 0.5 * (chord_sum(tree, path(Extremity::LHand), arm, -params_.hand_end_ratio * s) +
-                               chord_sum(tree, path(Extremity::RHand), arm, -params_.hand_end_ratio * s));
+    const double legs =
+        0.5 * (chord_sum(tree, path(Extremity::LFoot), leg, -params_.foot_end_ratio * s) +
+               chord_sum(tree, path(Extremity::RFoot), leg, -params_.foot_end_ratio * s));
+    const double arms =
+        0.5 * (chord_sum(tree, path(Extremity::LHand), arm, -params_.hand_end_ratio * s) +
+               chord_sum(tree, path(Extremity::RHand), arm, -params_.hand_end_ratio * s));
     const double body = legs + chord_sum(tree, tree.torso_path, torso, 0) +
                         chord_sum(tree, path(Extremity::Head), head, -params_.head_end_ratio * s);
     stature = (body + arms) / (ratio::kStaturePath + ratio::kArmChain);
@@ -260,8 +288,9 @@ double ModelFitter::frame_stature(const LabelledTree& tree) const {
   return stature;
 }
 
-void ModelFitter::fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path, std::span<const Joint> joints,
-                            double end_offset_mm, bool point_at_tip) {
+void ModelFitter::fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path,
+                            std::span<const Joint> joints, double end_offset_mm,
+                            bool point_at_tip) {
   compute_arcs(tree, path);
   const double margin = 0.5 * tree.voxel_mm;
   double a = -end_offset_mm;
@@ -276,7 +305,8 @@ void ModelFitter::fit_chain(const LabelledTree& tree, const std::vector<int32_t>
     }
     a = next;
   }
-  if (point_at_tip) shake_.add_point(joints[0], result_.joints[index(joints[0])], params_.tip_weight);
+  if (point_at_tip)
+    shake_.add_point(joints[0], result_.joints[index(joints[0])], params_.tip_weight);
 }
 
 const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
@@ -291,19 +321,22 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
 
   // Rough alignment and lines: every joint starts at its arc position along its labelled path
   // (the chest at the origin, the model oriented by the tree's paths and forward vector).
-  static constexpr std::array<Joint, 4> kNeck = {Joint::HeadTop, Joint::Head, Joint::Neck, Joint::Chest};
+  static constexpr std::array<Joint, 4> kNeck = {Joint::HeadTop, Joint::Head, Joint::Neck,
+                                                 Joint::Chest};
   fit_chain(tree, paths[head], kNeck, params_.head_end_ratio * stature_mm, true);
   for (bool right : {false, true}) {
-    const std::array<Joint, 4> arm = {side(Joint::LFTip, right), side(Joint::LHand, right), side(Joint::LElb, right),
-                                      side(Joint::LSho, right)};
-    const std::array<Joint, 5> leg = {side(Joint::LToe, right), side(Joint::LFoot, right), side(Joint::LAnk, right),
-                                      side(Joint::LKne, right), side(Joint::LHip, right)};
+    const std::array<Joint, 4> arm = {side(Joint::LFTip, right), side(Joint::LHand, right),
+                                      side(Joint::LElb, right), side(Joint::LSho, right)};
+    const std::array<Joint, 5> leg = {side(Joint::LToe, right), side(Joint::LFoot, right),
+                                      side(Joint::LAnk, right), side(Joint::LKne, right),
+                                      side(Joint::LHip, right)};
     fit_chain(tree, paths[static_cast<int>(right ? Extremity::RHand : Extremity::LHand)], arm,
               params_.hand_end_ratio * stature_mm, true);
     fit_chain(tree, paths[static_cast<int>(right ? Extremity::RFoot : Extremity::LFoot)], leg,
               params_.foot_end_ratio * stature_mm, true);
   }
-  static constexpr std::array<Joint, 4> kTorso = {Joint::Chest, Joint::UBack, Joint::Back, Joint::LBack};
+  static constexpr std::array<Joint, 4> kTorso = {Joint::Chest, Joint::UBack, Joint::Back,
+                                                  Joint::LBack};
   fit_chain(tree, tree.torso_path, kTorso, 0, false);
 
   // Shoulders and hips: the skeleton is unreliable there (limbs close to the body shorten), so
@@ -312,10 +345,12 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
   // upper torso, which follows a twisted torso.
   MomentAccumulator torso_nodes, upper;
   for (int32_t i : tree.torso_path) torso_nodes.add(tree.position[i]);
-  Line torso = torso_nodes.count() >= 2 ? fit_line(torso_nodes) : Line{tree.position[tree.origin], tree.up};
+  Line torso =
+      torso_nodes.count() >= 2 ? fit_line(torso_nodes) : Line{tree.position[tree.origin], tree.up};
   if (torso.direction.dot(tree.up) < 0) torso.direction = -torso.direction;
   compute_arcs(tree, tree.torso_path);
-  for (size_t k = 0; k < tree.torso_path.size() && arc_[k] <= 0.1 * stature_mm; ++k)
+  for (size_t k = 0;
+       k < tree.torso_path.size() && arc_[k] <= params_.upper_torso_ratio * stature_mm; ++k)
     upper.add(tree.position[tree.torso_path[k]]);
   for (int s : {static_cast<int>(Extremity::LHand), static_cast<int>(Extremity::RHand)}) {
     const auto& p = paths[s];
@@ -328,9 +363,11 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
     Eigen::Vector3d normal = fit_plane_normal(upper);
     if (normal.dot(tree.forward) < 0) normal = -normal;
     const Eigen::Vector3d axis = tree.up.cross(normal);
-    if (axis.norm() > 0.5 && axis.normalized().dot(tree.left) > 0.5) shoulder_axis = axis.normalized();
+    if (axis.norm() > 0.5 && axis.normalized().dot(tree.left) > 0.5)
+      shoulder_axis = axis.normalized();
   }
-  const double sho = bone_ratio(Joint::LSho) * stature_mm, hip = bone_ratio(Joint::LHip) * stature_mm;
+  const double sho = bone_ratio(Joint::LSho) * stature_mm,
+               hip = bone_ratio(Joint::LHip) * stature_mm;
   for (bool right : {false, true}) {
     const double sign = right ? -1 : 1;
     Line sho_line = torso, hip_line = torso;
@@ -354,18 +391,39 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
   // its lines in voxels.
   auto limb_of = [&](Joint j) -> int {
     switch (j) {
-      case Joint::LSho: case Joint::LElb: case Joint::LHand: case Joint::LFTip: return static_cast<int>(Extremity::LHand);
-      case Joint::RSho: case Joint::RElb: case Joint::RHand: case Joint::RFTip: return static_cast<int>(Extremity::RHand);
-      case Joint::LHip: case Joint::LKne: case Joint::LAnk: case Joint::LFoot: case Joint::LToe: return static_cast<int>(Extremity::LFoot);
-      case Joint::RHip: case Joint::RKne: case Joint::RAnk: case Joint::RFoot: case Joint::RToe: return static_cast<int>(Extremity::RFoot);
-      default: return head;
+      case Joint::LSho:
+      case Joint::LElb:
+      case Joint::LHand:
+      case Joint::LFTip:
+        return static_cast<int>(Extremity::LHand);
+      case Joint::RSho:
+      case Joint::RElb:
+      case Joint::RHand:
+      case Joint::RFTip:
+        return static_cast<int>(Extremity::RHand);
+      case Joint::LHip:
+      case Joint::LKne:
+      case Joint::LAnk:
+      case Joint::LFoot:
+      case Joint::LToe:
+        return static_cast<int>(Extremity::LFoot);
+      case Joint::RHip:
+      case Joint::RKne:
+      case Joint::RAnk:
+      case Joint::RFoot:
+      case Joint::RToe:
+        return static_cast<int>(Extremity::RFoot);
+      default:
+        return head;
     }
   };
   bool finite = true;
   for (int j = 0; j < kNumJoints; ++j) {
     finite = finite && result_.joints[j].allFinite();
-    const double d = shake_.target_distance(static_cast<Joint>(j), result_.joints[j]) / std::max(1.0, tree.voxel_mm);
-    result_.confidence[j] = static_cast<float>(tree.limb_score[limb_of(static_cast<Joint>(j))] / (1 + d));
+    const double d = shake_.target_distance(static_cast<Joint>(j), result_.joints[j]) /
+                     std::max(1.0, tree.voxel_mm);
+    result_.confidence[j] =
+        static_cast<float>(tree.limb_score[limb_of(static_cast<Joint>(j))] / (1 + d));
   }
   result_.ok = finite && result_.max_bone_error_mm < params_.shake.max_bone_error_mm;
   return result_;

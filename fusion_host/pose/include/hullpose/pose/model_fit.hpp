@@ -29,10 +29,10 @@ inline double mean_displacement(const JointPositions& a, const JointPositions& b
 }
 
 struct ShakeParams {
-  int max_iterations = 60;        // outer iterations (pseudo-constraint step + bone sweeps)
+  int max_iterations = 60;  // outer iterations (pseudo-constraint step + bone sweeps)
   int sweeps_per_iteration = 3;
-  double target_gain = 1.0;       // fraction of the distance to its targets a joint moves per step
-  double tolerance_mm = 0.05;     // stop when an iteration moves no joint further than this
+  double target_gain = 1.0;    // fraction of the distance to its targets a joint moves per step
+  double tolerance_mm = 0.05;  // stop when an iteration moves no joint further than this
   double bone_tolerance_mm = 0.01;  // |length - l| every bone must meet when solve() returns
   // A fit whose bones are still further off than this did not converge (ten times the
   // tolerance: the final sweeps stopped on their count, not on the tolerance).
@@ -65,7 +65,8 @@ class Shake {
     bool is_point = false;
     double weight = 1;
   };
-  double sweep_bones(JointPositions& joints, const std::array<Eigen::Vector3d, kNumBones>& reference) const;
+  double sweep_bones(JointPositions& joints,
+                     const std::array<Eigen::Vector3d, kNumBones>& reference) const;
 
   std::array<double, kNumBones> length_{};
   std::array<double, kNumJoints> inv_mass_{};
@@ -88,6 +89,10 @@ struct FitParams {
   double torso_offset_weight = 0.5;
   // A node group shorter than this many voxels gives no line (its direction would be noise).
   double min_group_voxels = 2.5;
+  // The shoulder plane is fitted to the torso nodes within this many statures of the origin:
+  // the upper chest, which turns with the shoulders when the torso twists (paper 6 leaves the
+  // extent open; 0.1 has been the value since the first fit, not tuned to a clip).
+  double upper_torso_ratio = 0.1;
 };
 
 struct FitResult {
@@ -112,13 +117,14 @@ class ModelFitter {
 
  private:
   // One chain of joints along a tree path, extremity first.
-  void fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path, std::span<const Joint> joints,
-                 double end_offset_mm, bool point_at_tip);
-  double chord_sum(const LabelledTree& tree, const std::vector<int32_t>& path, std::span<const double> groups_mm,
-                   double start_mm) const;
-  Eigen::Vector3d at_arc(const LabelledTree& tree, const std::vector<int32_t>& path, double arc_mm) const;
-  bool group_line(const LabelledTree& tree, const std::vector<int32_t>& path, double from_mm, double to_mm,
-                  Line& line) const;
+  void fit_chain(const LabelledTree& tree, const std::vector<int32_t>& path,
+                 std::span<const Joint> joints, double end_offset_mm, bool point_at_tip);
+  double chord_sum(const LabelledTree& tree, const std::vector<int32_t>& path,
+                   std::span<const double> groups_mm, double start_mm) const;
+  Eigen::Vector3d at_arc(const LabelledTree& tree, const std::vector<int32_t>& path,
+                         double arc_mm) const;
+  bool group_line(const LabelledTree& tree, const std::vector<int32_t>& path, double from_mm,
+                  double to_mm, Line& line) const;
   void compute_arcs(const LabelledTree& tree, const std::vector<int32_t>& path) const;
 
   FitParams params_;
