@@ -74,7 +74,8 @@ package: deps
 cross: deps
 	deploy/cross/build.sh $(BUILD_ARM64) $(JOBS)
 
-# The repo's .clang-format over every tracked C++ file: `format` rewrites, `format-check` (CI)
+# The repo's .clang-format over the project's C++ sources, i.e. the files git tracks (never a
+# build dir or ../shared): `format` rewrites, `format-check` (CI)
 # fails on the first file that differs.
 FORMAT_FILES = git ls-files '*.cpp' '*.hpp' '*.cu' '*.cuh'
 
