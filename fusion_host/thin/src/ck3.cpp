@@ -40,12 +40,29 @@ const char* to_string(CurveRule rule) {
   return "?";
 }
 
+namespace {
+
+// The nine 3x3 planes of a code (nb::plane9, axis-major, values -1, 0, 1): the 2- and 1-clique
+// tests of three passes read them, so a candidate computes them once per iteration.
+struct Planes {
+  uint16_t p[3][3];
+  explicit Planes(uint32_t code = 0) {
+    for (int a = 0; a < 3; ++a)
+      for (int v = 0; v < 3; ++v) p[a][v] = static_cast<uint16_t>(nb::plane9(code, a, v - 1));
+  }
+  // nb::pair_ring.
+  uint32_t ring(int axis, int sign) const { return (p[axis][1] | p[axis][1 + sign]) & ~0x10u; }
+};
+
+}  // namespace
+
 struct Ck3Thinner::State {
   detail::PaddedVolume vol;
   std::vector<uint32_t> border, next_border, codes, k_list;
   // Flags of border-list entry i (the volume's byte flags hold only kInB / kK; neighbours'
   // pass flags are read from the bit planes).
   std::vector<uint8_t> own;
+  std::vector<Planes> planes;                  // of candidates (kS0), set by the classify pass
   std::vector<std::vector<uint32_t>> deleted;  // per thread: border-list positions
   int face_off[6] = {};
 };
@@ -89,22 +106,20 @@ struct MaskRules {
   }
 
   // Any face neighbour in `nbrs` whose 2-clique ring has property `bit`?
-  bool face_ring(uint32_t code, uint32_t nbrs, uint8_t bit) const {
+  bool face_ring(const Planes& pl, uint32_t nbrs, uint8_t bit) const {
     if ((nbrs & nb::kFaces) == 0) return false;
     for (int d = 0; d < 6; ++d)
-      if ((nbrs & face_bit[d]) &&
-          (t.ring[nb::pair_ring(code, direction_axis(d), direction_sign(d))] & bit))
+      if ((nbrs & face_bit[d]) && (t.ring[pl.ring(direction_axis(d), direction_sign(d))] & bit))
         return true;
     return false;
   }
   // A 1-clique (plane quadrant with a diagonal pair) with all members in `free`, whose caps pass
   // `caps(lo, hi, q)`.
   template <class Caps>
-  bool free_edge(uint32_t code, uint32_t free, Caps&& caps) const {
+  bool free_edge(const Planes& pl, uint32_t free, Caps&& caps) const {
     if ((free & ~nb::kCentreBit) == 0) return false;
     for (int axis = 0; axis < 3; ++axis) {
-      const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1),
-                     hi = nb::plane9(code, axis, 1);
+      const uint32_t lo = pl.p[axis][0], p0 = pl.p[axis][1], hi = pl.p[axis][2];
       for (int qi = 0; qi < 4; ++qi) {
         const nb::Quadrant& q = t.quadrants[qi];
         if (nb::quadrant_has_diagonal(p0, q) && caps(lo, hi, q) &&
@@ -155,6 +170,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
     const size_t n = border.size();
     s.codes.resize(n);
     s.own.resize(n);
+    s.planes.resize(n);
     stats.visited += n;
     const bool parallel =
         threads > 1 && n >= static_cast<size_t>(std::max(0, options_.min_parallel_border));
@@ -169,7 +185,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; ++i) {
           bool out = false;
-          s.own[i] = rule_fn(border[i], s.codes[i], s.own[i], out);
+          s.own[i] = rule_fn(border[i], s.codes[i], s.planes[i], s.own[i], out);
           if (out) vol.plane_set(out_plane, border[i], parallel);
         }
       };
@@ -186,6 +202,7 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
       for (size_t i = 0; i < n; ++i) {
         const uint8_t f = classify(tables, rule, s.codes[i]);
         s.own[i] = f;
+        if (f & kS0) s.planes[i] = Planes(s.codes[i]);
         if (f & kS0) vol.plane_set(kPlaneS0, border[i], parallel);
         if (f & kS) vol.plane_set(kPlaneS, border[i], parallel);
         if (rule == CurveRule::kCk3 && (f & kSurfV)) vol.plane_set(kPlaneMark, border[i], parallel);
@@ -195,13 +212,13 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
       if (rule == CurveRule::kCk3) {
         // Surface 2-cliques (ck3_surface), then residual voxels without a surface neighbour stay
         // (ck3_candidate).
-        pass(kPlaneMark, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
-          if (!(f & kS0) || !rules.face_ring(code, vol.plane_code(kPlaneS0, idx), kRingFull4))
+        pass(kPlaneMark, [&](uint32_t idx, uint32_t, const Planes& pl, uint8_t f, bool& out) {
+          if (!(f & kS0) || !rules.face_ring(pl, vol.plane_code(kPlaneS0, idx), kRingFull4))
             return f;
           out = true;
           return static_cast<uint8_t>(f | kSurf);
         });
-        pass(kPlaneS, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
+        pass(kPlaneS, [&](uint32_t idx, uint32_t code, const Planes&, uint8_t f, bool& out) {
           if (!(f & kS0)) return f;
           bool residual = true;
           for (int d = 0; d < 6 && residual; ++d) {
@@ -214,17 +231,17 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
           return static_cast<uint8_t>(f | kS);
         });
       } else if (rule == CurveRule::kIsthmus) {
-        pass(kPlaneMark, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
+        pass(kPlaneMark, [&](uint32_t idx, uint32_t, const Planes& pl, uint8_t f, bool& out) {
           if (!(f & kS0)) return f;
           const uint32_t nbrs = vol.plane_code(kPlaneS0, idx);
-          if (rules.face_ring(code, nbrs, kRingCrucial)) f |= kZ2;
-          if (rules.face_ring(code, nbrs, kRingIsthmus)) f |= kPK;
+          if (rules.face_ring(pl, nbrs, kRingCrucial)) f |= kZ2;
+          if (rules.face_ring(pl, nbrs, kRingIsthmus)) f |= kPK;
           out = !(f & kZ2);
           return f;
         });
-        pass(kPlaneS, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
+        pass(kPlaneS, [&](uint32_t idx, uint32_t, const Planes& pl, uint8_t f, bool& out) {
           if ((f & (kS0 | kZ2)) == kS0 &&
-              rules.free_edge(code, vol.plane_code(kPlaneMark, idx),
+              rules.free_edge(pl, vol.plane_code(kPlaneMark, idx),
                               [](uint32_t lo, uint32_t hi, const nb::Quadrant& q) {
                                 return (lo & q.cells) && (hi & q.cells);
                               }))
@@ -235,16 +252,16 @@ ThinStats Ck3Thinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint)
         });
       }
       // 3.-4. Levels 2 and 1.
-      pass(kPlaneF1, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
+      pass(kPlaneF1, [&](uint32_t idx, uint32_t, const Planes& pl, uint8_t f, bool& out) {
         if (!(f & kS)) return f;
-        if (rules.face_ring(code, vol.plane_code(kPlaneS, idx), kRingCrucial))
+        if (rules.face_ring(pl, vol.plane_code(kPlaneS, idx), kRingCrucial))
           return static_cast<uint8_t>(f | kZ2);
         out = true;
         return f;
       });
-      pass(kPlaneF0, [&](uint32_t idx, uint32_t code, uint8_t f, bool& out) {
+      pass(kPlaneF0, [&](uint32_t idx, uint32_t, const Planes& pl, uint8_t f, bool& out) {
         if ((f & (kS | kZ2)) != kS) return f;
-        if (rules.free_edge(code, vol.plane_code(kPlaneF1, idx), nb::edge_crucial))
+        if (rules.free_edge(pl, vol.plane_code(kPlaneF1, idx), nb::edge_crucial))
           return static_cast<uint8_t>(f | kZ1);
         out = true;
         return f;
