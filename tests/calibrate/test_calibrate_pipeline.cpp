@@ -306,6 +306,6 @@ TEST_CASE("live feedback reports views, coverage and per-view error as views arr
   corners().feed(calibrator, [](const std::string&, int) { return true; });
   const std::string text = out.str();
   CHECK_THAT(text, Contains("cam0 a00_close00: board found; 1 views, coverage"));
-  CHECK_THAT(text, Contains("cam1 a00_close00: no board; 0 views, coverage 0%"));
+  CHECK_THAT(text, Contains("cam1 a00_close00: no board: no complete grid of "));
   CHECK_THAT(text, Contains(" px; 8 views"));  // the first estimate comes with the 8th view
 }

@@ -133,3 +133,18 @@ TEST_CASE("a symmetric board is refused") {
   o.board = {8, 6, 120};
   CHECK_THROWS_WITH(RigCalibrator(o), Contains("symmetric under a half turn"));
 }
+
+TEST_CASE("a miss says what was searched for, and how") {
+  const cv::Mat blank(486, 644, CV_8UC1, cv::Scalar(128));
+  BoardSpec board = kBoard;
+  CHECK(detect_board(blank, board).empty());
+  const std::string fast = board_search_summary(board, blank.size());
+  CHECK_THAT(fast, Contains("9x6 inner corners"));
+  CHECK_THAT(fast, Contains("at double size"));
+  CHECK_THAT(fast, Contains("--exhaustive-search"));
+  board.exhaustive_search = true;
+  CHECK(detect_board(blank, board).empty());
+  CHECK_THAT(board_search_summary(board, blank.size()), Contains("exhaustively"));
+  // Large images get neither the double-size nor the exhaustive search.
+  CHECK_THAT(board_search_summary(board, {1600, 1200}), !Contains("double"));
+}

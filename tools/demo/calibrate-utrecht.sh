@@ -28,7 +28,7 @@ YAML
 done
 floors=()
 for k in 0 1 2 3 4; do floors+=(--floor-view "live0000$k"); done
-common=("${configs[@]}" --stride 25 --frames 5 --board 8x6 --square-mm 115 "${floors[@]}" --rig-id utrecht --quiet)
+common=("${configs[@]}" --stride 25 --frames 5 --board 8x6 --square-mm 115 --exhaustive-search "${floors[@]}" --rig-id utrecht --quiet)
 say "1. extrinsics with the shipped intrinsics"
 "$build/tools/calibrate/hullpose-calibrate" "${common[@]}" --intrinsics "$work/shipped.yaml" \
   --compare "$work/shipped.yaml" --out "$work/extrinsics.yaml"

@@ -20,13 +20,16 @@ uint64_t bits_at(const uint64_t* row, int64_t words, int64_t b) {
 
 }  // namespace
 
-void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint8_t k_flag,
-                        uint8_t inb_flag, std::vector<uint32_t>& border, std::vector<uint32_t>& k_list) {
+void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint,
+                        uint8_t k_flag, uint8_t inb_flag, std::vector<uint32_t>& border,
+                        std::vector<uint32_t>& k_list) {
   const Eigen::Vector3i dims = grid.dims();
-  HULLPOSE_THROW_UNLESS((dims.array() > 0).all(), "thinning: empty volume dims " << dims.transpose());
+  HULLPOSE_THROW_UNLESS((dims.array() > 0).all(),
+                        "thinning: empty volume dims " << dims.transpose());
   if (constraint && constraint->dims().prod() == 0) constraint = nullptr;  // output only
   HULLPOSE_THROW_UNLESS(!constraint || constraint->dims() == dims,
-                        "thinning: constraint dims " << constraint->dims().transpose() << " differ from volume dims "
+                        "thinning: constraint dims " << constraint->dims().transpose()
+                                                     << " differ from volume dims "
                                                      << dims.transpose());
   dims_ = dims;
   // Work on the object's bounding box only: a person fills a small part of the capture volume,
@@ -68,16 +71,19 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
   shift_ = std::bit_width(static_cast<unsigned>(px_ - 1));
   mask_ = (1u << shift_) - 1;
   const uint64_t padded = (static_cast<uint64_t>(py_) * pz_) << shift_;
-  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31), "thinning: volume " << dims.transpose() << " too large");
+  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31),
+                        "thinning: volume " << dims.transpose() << " too large");
   words_ = static_cast<size_t>((px_ + 63) / 64 + 1);
   rows_.assign(static_cast<size_t>(py_) * pz_ * words_, 0);
+  for (auto& p : planes_) p.assign(rows_.size(), 0);
   if (flags_.size() < padded) flags_.resize(padded, 0);  // invariant: all zero between frames
   for (int b = 0; b < 27; ++b) off27_[b] = offset(b % 3 - 1, b / 3 % 3 - 1, b / 9 - 1);
 
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y) {
       const uint64_t* src = grid.row(y, z);
-      uint64_t* dst = rows_.data() + (static_cast<size_t>(z - lo.z() + kPad) * py_ + y - lo.y() + kPad) * words_;
+      uint64_t* dst = rows_.data() +
+                      (static_cast<size_t>(z - lo.z() + kPad) * py_ + y - lo.y() + kPad) * words_;
       // Padded bit p holds grid bit p - kPad + lo.x; bits outside the box are zero in the grid.
       for (size_t w = 0; w + 1 < words_; ++w)
         dst[w] = bits_at(src, gw, static_cast<int64_t>(w) * 64 - kPad + lo.x());
@@ -104,7 +110,8 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
         const uint64_t left = r[w] << 1 | (w > 0 ? r[w - 1] >> 63 : 0);
         const uint64_t right = r[w] >> 1 | r[w + 1] << 63;
         const uint64_t inner = left & right & r[w - words_] & r[w + words_] &
-                               r[w - words_ * static_cast<size_t>(py_)] & r[w + words_ * static_cast<size_t>(py_)];
+                               r[w - words_ * static_cast<size_t>(py_)] &
+                               r[w + words_ * static_cast<size_t>(py_)];
         for (uint64_t bits = r[w] & ~inner; bits != 0; bits &= bits - 1) {
           const uint32_t idx = index(static_cast<int>(w * 64) + std::countr_zero(bits), y, z);
           if (flags(idx) & k_flag) continue;
@@ -115,7 +122,8 @@ void PaddedVolume::load(const fusion::BitGrid& grid, const fusion::BitGrid* cons
     }
 }
 
-void PaddedVolume::store(fusion::BitGrid& grid, fusion::BitGrid* constraint, const std::vector<uint32_t>& k_list) const {
+void PaddedVolume::store(fusion::BitGrid& grid, fusion::BitGrid* constraint,
+                         const std::vector<uint32_t>& k_list) const {
   HULLPOSE_ASSERT(grid.dims() == dims_);
   // Thinning only deletes, so the grid outside the box is still empty: rewrite the box's rows.
   const int gw = grid.words_per_row();
@@ -124,9 +132,11 @@ void PaddedVolume::store(fusion::BitGrid& grid, fusion::BitGrid* constraint, con
   for (int z = 0; z < pz_ - 2 * kPad; ++z)
     for (int y = 0; y < py_ - 2 * kPad; ++y) {
       uint64_t* dst = grid.row(y + lo_.y(), z + lo_.z());
-      const uint64_t* src = rows_.data() + (static_cast<size_t>(z + kPad) * py_ + y + kPad) * words_;
+      const uint64_t* src =
+          rows_.data() + (static_cast<size_t>(z + kPad) * py_ + y + kPad) * words_;
       for (int w = 0; w < gw; ++w)
-        dst[w] = bits_at(src, static_cast<int64_t>(words_), static_cast<int64_t>(w) * 64 + kPad - lo_.x());
+        dst[w] = bits_at(src, static_cast<int64_t>(words_),
+                         static_cast<int64_t>(w) * 64 + kPad - lo_.x());
       dst[gw - 1] &= last_mask;
     }
   if (constraint) {

@@ -1,7 +1,7 @@
 #pragma once
 // The thinners' working volume: the object's bounding box as bit rows with 2 background voxels
-// of padding on every side (clique tests read up to 2 voxels away, notes §0), a per-voxel flag word, and the
-// border list. Internal to hullpose_thin.
+// of padding on every side (clique tests read up to 2 voxels away, notes §0), a per-voxel flag
+// word, and the border list. Internal to hullpose_thin.
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -20,12 +20,13 @@ class PaddedVolume {
   // Copies `grid` in (and `constraint`'s object voxels into flag `k_flag`); fills `border` with
   // the 6-border voxels not in K and sets `inb_flag` on them. Flags must be all zero on entry
   // (zero_flags() restores that), so a frame never pays for clearing the whole flag volume.
-  void load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint8_t k_flag, uint8_t inb_flag,
-            std::vector<uint32_t>& border, std::vector<uint32_t>& k_list);
+  void load(const fusion::BitGrid& grid, const fusion::BitGrid* constraint, uint8_t k_flag,
+            uint8_t inb_flag, std::vector<uint32_t>& border, std::vector<uint32_t>& k_list);
   // Object voxels counted by the last load().
   size_t voxels() const { return voxels_; }
   // Writes the object back into `grid` (same dims as loaded) and K into `constraint`.
-  void store(fusion::BitGrid& grid, fusion::BitGrid* constraint, const std::vector<uint32_t>& k_list) const;
+  void store(fusion::BitGrid& grid, fusion::BitGrid* constraint,
+             const std::vector<uint32_t>& k_list) const;
 
   // Linear voxel index: (row << shift) | x with row = z * py + y, the row stride a power of two
   // so that no per-voxel access divides.
@@ -46,9 +47,33 @@ class PaddedVolume {
   }
 
   // The 27-bit neighbourhood code of voxel idx (notes §0), from 9 unaligned row reads.
-  uint32_t code(uint32_t idx) const {
+  uint32_t code(uint32_t idx) const { return gather(rows_.data(), idx); }
+
+  // Bit planes with the object's layout, one per per-voxel flag the thinner's passes read from
+  // neighbours: a pass gathers a neighbour flag as a 27-bit code with the 9 row reads of code()
+  // instead of 26 byte reads and branches. Zero on load(); the thinner clears what it sets.
+  static constexpr int kPlanes = 5;
+  uint32_t plane_code(int plane, uint32_t idx) const { return gather(planes_[plane].data(), idx); }
+  // Sets the bit; `shared`: other threads set bits of the same words in this pass.
+  void plane_set(int plane, uint32_t idx, bool shared) {
+    uint64_t& w = planes_[plane][word_of(idx)];
+    const uint64_t m = uint64_t{1} << (idx & mask_ & 63);
+    if (shared)
+      std::atomic_ref<uint64_t>(w).fetch_or(m, std::memory_order_relaxed);
+    else
+      w |= m;
+  }
+  void plane_clear_all(uint32_t idx) {
+    const size_t w = word_of(idx);
+    const uint64_t m = ~(uint64_t{1} << (idx & mask_ & 63));
+    for (auto& p : planes_) p[w] &= m;
+  }
+
+ private:
+  size_t word_of(uint32_t idx) const { return (idx >> shift_) * words_ + ((idx & mask_) >> 6); }
+  uint32_t gather(const uint64_t* rows, uint32_t idx) const {
     const uint32_t row = idx >> shift_, x = (idx & mask_) - 1;
-    const auto* base = reinterpret_cast<const unsigned char*>(rows_.data());
+    const auto* base = reinterpret_cast<const unsigned char*>(rows);
     uint32_t c = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
@@ -60,12 +85,16 @@ class PaddedVolume {
     return c;
   }
 
+ public:
   // Per-voxel flags; each pass writes only the flags of the voxel it evaluates while other
   // threads read neighbours', hence relaxed atomics (plain moves on x86).
   uint8_t flags(uint32_t idx) const {
-    return std::atomic_ref<uint8_t>(const_cast<uint8_t&>(flags_[idx])).load(std::memory_order_relaxed);
+    return std::atomic_ref<uint8_t>(const_cast<uint8_t&>(flags_[idx]))
+        .load(std::memory_order_relaxed);
   }
-  void set_flags(uint32_t idx, uint8_t f) { std::atomic_ref<uint8_t>(flags_[idx]).store(f, std::memory_order_relaxed); }
+  void set_flags(uint32_t idx, uint8_t f) {
+    std::atomic_ref<uint8_t>(flags_[idx]).store(f, std::memory_order_relaxed);
+  }
   // Back to the all-zero flag invariant for the listed voxels (call at the end of a frame with
   // every voxel whose flags were set).
   void zero_flags(const std::vector<uint32_t>& list) {
@@ -79,10 +108,12 @@ class PaddedVolume {
   size_t words_ = 0;  // per padded row, including one spare word for the unaligned reads
   int off27_[27] = {};
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // the grid's
-  Eigen::Vector3i lo_ = Eigen::Vector3i::Zero();    // grid coordinates of the object's bounding box corner
+  Eigen::Vector3i lo_ =
+      Eigen::Vector3i::Zero();  // grid coordinates of the object's bounding box corner
   std::vector<uint64_t> column_or_;
   size_t voxels_ = 0;
   std::vector<uint64_t> rows_;
+  std::vector<uint64_t> planes_[kPlanes];
   std::vector<uint8_t> flags_;
 };
 

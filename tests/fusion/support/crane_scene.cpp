@@ -9,7 +9,7 @@
 
 namespace hullpose::fusion::testing {
 
-CraneFrames load_crane(int count) {
+CraneFrames load_crane(int count, CraneVolume volume) {
   const std::filesystem::path root =
       std::filesystem::path(HULLPOSE_SHARED_DIR) / "data/real/vlasic-crane";
   import::RigImportOptions o;
@@ -20,10 +20,9 @@ CraneFrames load_crane(int count) {
   o.world.mm_per_unit = 1000;
   o.world.up = Eigen::Vector3d::UnitY();
   o.rig_id = "crane";
-  // The thesis rig's volume size (2.4 x 2.4 x 2.2 m) where the cameras' axes meet (near the floor's
-  // origin): the subject stays inside it in all 120 frames, and its 18.75 mm voxels at 128³ are
-  // finer than those of the box every camera sees (3.65 m across).
-  o.volume_size_mm = Eigen::Vector3d(2400, 2400, 2200);
+  // The thesis rig's volume size where the cameras' axes meet (near the floor's origin): the
+  // subject stays inside it in all 120 frames.
+  if (volume == CraneVolume::kThesis) o.volume_size_mm = Eigen::Vector3d(2400, 2400, 2200);
   CraneFrames out;
   out.rig = import::import_rig(o).rig;
   for (int i = 0; i < count; ++i) {

@@ -15,7 +15,14 @@ struct CraneFrames {
   std::vector<std::vector<cv::Mat>> views;  // [frame][camera], CV_8UC1, 255 = person
 };
 
+// The capture volume of the imported rig.
+enum class CraneVolume {
+  kImport,  // what `hullpose-import rig` gives without volume options: the box every camera sees
+            // (3.65 m across; 28.5 mm voxels at 128³)
+  kThesis,  // the thesis rig's 2.4 x 2.4 x 2.2 m where the optical axes meet (18.75 mm voxels)
+};
+
 // `count` frames spread evenly over the 120 frames.
-CraneFrames load_crane(int count);
+CraneFrames load_crane(int count, CraneVolume volume = CraneVolume::kThesis);
 
 }  // namespace hullpose::fusion::testing

@@ -4,6 +4,7 @@
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "hullpose/common/check.hpp"
 
@@ -96,14 +97,23 @@ std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& boa
     found = cv::findChessboardCornersSB(grey, board.pattern_size(), corners,
                                         cv::CALIB_CB_NORMALIZE_IMAGE);
   // A board only a few pixels a square (far away, or lying on the floor seen from the side in a
-  // small image): the detector's kernels need more pixels, so search at twice the size.
+  // small image): the detector's kernels need more pixels, so search at twice the size; last, if
+  // asked for, the exhaustive search with sub-pixel accuracy at both sizes. That finds boards the
+  // fast search misses (the Utrecht floor board: ~10 px squares seen edge-on, XviD-blurred: 2 of
+  // its 4 cameras) at several times the cost.
   if (!found && grey.cols < 1000) {
     cv::Mat twice;
     cv::pyrUp(grey, twice);
+    const int exhaustive =
+        cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY;
     found = cv::findChessboardCornersSB(twice, board.pattern_size(), corners,
-                                        cv::CALIB_CB_NORMALIZE_IMAGE);
+                                        cv::CALIB_CB_NORMALIZE_IMAGE) ||
+            (board.exhaustive_search &&
+             cv::findChessboardCornersSB(twice, board.pattern_size(), corners, exhaustive));
     // Double-size x is full-size 2x + 0.5 (pixel centres at integers in both).
     for (auto& p : corners) p = 0.5f * (p - cv::Point2f(0.5f, 0.5f));
+    if (!found && board.exhaustive_search)
+      found = cv::findChessboardCornersSB(grey, board.pattern_size(), corners, exhaustive);
   }
   if (!found || static_cast<int>(corners.size()) != board.corner_count()) return {};
   // The refinement window must stay inside the four squares around a corner.
@@ -123,6 +133,24 @@ std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& boa
                    cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-3));
   to_board_order(corners, grey, board);
   return corners;
+}
+
+}  // namespace hullpose::calibrate
+
+namespace hullpose::calibrate {
+
+std::string board_search_summary(const BoardSpec& board, cv::Size image) {
+  std::ostringstream s;
+  s << "no complete grid of " << board.cols << "x" << board.rows
+    << " inner corners found (cv::findChessboardCornersSB";
+  if (image.width >= 640 && image.height >= 480) s << " at half size,";
+  s << " at full size";
+  if (image.width < 1000) s << ", at double size";
+  if (image.width < 1000 && board.exhaustive_search) s << ", exhaustively at double and full size";
+  s << "); every inner corner must be in view, unoccluded, with squares of a few pixels or more";
+  if (image.width < 1000 && !board.exhaustive_search)
+    s << " (--exhaustive-search finds smaller, blurred boards, slowly)";
+  return s.str();
 }
 
 }  // namespace hullpose::calibrate

@@ -205,10 +205,10 @@ void IntrinsicsCalibrator::check_determined(const Estimate& e, size_t views) con
 
 IntrinsicsResult IntrinsicsCalibrator::calibrate() const {
   HULLPOSE_THROW_UNLESS(seen_ > 0, "camera " << camera_id_ << ": no images");
-  HULLPOSE_THROW_UNLESS(!views_.empty(), "camera " << camera_id_ << ": no checkerboard ("
-                                                   << board_.cols << "x" << board_.rows
-                                                   << " inner corners) found in any of its "
-                                                   << seen_ << " images");
+  HULLPOSE_THROW_UNLESS(!views_.empty(),
+                        "camera " << camera_id_ << ": no checkerboard (" << board_.cols << "x"
+                                  << board_.rows << " inner corners) found in any of its " << seen_
+                                  << "images: " << board_search_summary(board_, image_size_));
   HULLPOSE_THROW_UNLESS(static_cast<int>(views_.size()) >= options_.min_views,
                         "camera " << camera_id_ << ": board found in only " << views_.size()
                                   << " of " << seen_ << " images; need at least "
@@ -273,10 +273,10 @@ IntrinsicsResult IntrinsicsCalibrator::calibrate() const {
 }
 
 IntrinsicsResult IntrinsicsCalibrator::with_known(const CameraModel& known) const {
-  HULLPOSE_THROW_UNLESS(!views_.empty(), "camera " << camera_id_ << ": no checkerboard ("
-                                                   << board_.cols << "x" << board_.rows
-                                                   << " inner corners) found in any of its "
-                                                   << seen_ << " images");
+  HULLPOSE_THROW_UNLESS(!views_.empty(),
+                        "camera " << camera_id_ << ": no checkerboard (" << board_.cols << "x"
+                                  << board_.rows << " inner corners) found in any of its " << seen_
+                                  << "images: " << board_search_summary(board_, image_size_));
   HULLPOSE_THROW_UNLESS(image_size_ == cv::Size(known.width, known.height),
                         "camera " << camera_id_ << ": images are " << image_size_.width << "x"
                                   << image_size_.height << ", the given intrinsics are for "

@@ -21,6 +21,8 @@ std::string usage() {
          "  --timeout-ms T           live: a camera silent this long is an error (default 2000)\n"
          "  --board COLSxROWS        inner corners, one side even and one odd (e.g. 9x6)\n"
          "  --square-mm S            square size in mm\n"
+         "  --exhaustive-search      small images: also search exhaustively for boards of a few\n"
+         "                           pixels a square (seconds per image without a board)\n"
          "  --floor-view NAME        instant with the board lying printed face up on the floor\n"
          "                           (default: floor). Repeat it for the board laid at several\n"
          "                           spots on the floor: the first sets the origin and x axis, "
@@ -91,6 +93,7 @@ std::optional<CommandLine> parse_command_line(int argc, const char* const* argv)
       .option("--rig-id", cli.options.rig_id)
       .option("--min-views", cli.options.intrinsics.min_views)
       .flag("--fix-intrinsics", [&] { cli.options.refine_intrinsics = false; })
+      .flag("--exhaustive-search", [&] { cli.options.board.exhaustive_search = true; })
       .flag("--no-k3", [&] { cli.options.intrinsics.estimate_k3 = false; })
       .option("--volume-min-cameras", cli.options.volume_min_cameras)
       .option("--max-rms-px", cli.options.max_rms_px)

@@ -92,7 +92,7 @@ void RigCalibrator::add_detection(const std::string& view, int camera_id, cv::Si
   std::ostream& out = *feedback_;
   out << "cam" << fb.camera_id << " " << fb.view << ": ";
   if (!fb.found) {
-    out << "no board";
+    out << "no board: " << board_search_summary(options_.board, image_size);
   } else {
     out << "board found";
     if (fb.view_rms_px)

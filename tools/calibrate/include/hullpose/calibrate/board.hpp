@@ -2,6 +2,7 @@
 // The checkerboard target and its detection in one image.
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 namespace hullpose::calibrate {
@@ -16,6 +17,10 @@ struct BoardSpec {
   int cols = 9;
   int rows = 6;
   double square_mm = 100;
+  // Detection: on images under 1000 px wide, when the fast searches miss, also run the
+  // exhaustive, accurate search (at double and full size). It finds boards of a few pixels a
+  // square that the fast one misses, at seconds per image that holds no board.
+  bool exhaustive_search = false;
 
   int corner_count() const { return cols * rows; }
   cv::Size pattern_size() const { return {cols, rows}; }
@@ -30,5 +35,9 @@ struct BoardSpec {
 // The board's inner corners in detector order, sub-pixel (cv::findChessboardCornersSB), or an
 // empty vector if the whole board was not found. `image` is 8-bit grey or BGR.
 std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& board);
+
+// Why detect_board() found nothing in an image of `image` size: what was searched for and how,
+// for the tool's messages.
+std::string board_search_summary(const BoardSpec& board, cv::Size image);
 
 }  // namespace hullpose::calibrate
