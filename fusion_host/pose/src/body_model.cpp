@@ -35,6 +35,16 @@ Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen
   return len > r ? Eigen::Vector3d(child - d * (r / len)) : parent;
 }
 
+void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBones>& length_mm) {
+  const JointPositions given = joints;
+  for (int b = 0; b < kNumBones; ++b) {  // kBones lists parents before children
+    const int p = index(kBones[b].parent), c = index(kBones[b].child);
+    const Eigen::Vector3d d = given[c] - given[p];
+    const double n = d.norm();
+    joints[c] = n > 1e-9 ? Eigen::Vector3d(joints[p] + d * (length_mm[b] / n)) : joints[p];
+  }
+}
+
 BodyModel BodyModel::from_stature(double stature_mm) {
   BodyModel m;
   for (int b = 0; b < kNumBones; ++b) {
@@ -66,12 +76,13 @@ int shared_index(int bone) {
 BodyModelEstimator::BodyModelEstimator(BodyModelParams params) : params_(params) {}
 
 void BodyModelEstimator::reset(double reference_stature_mm) {
+  if (held()) return;
   reference_mm_ = reference_stature_mm;
   scale_.fill(1.0);
   scale_n_.fill(0);
   for (int b = 0; b < kNumBones; ++b) radius_[b] = prior_radius_ratio(b) * reference_stature_mm;
   radius_n_.fill(0);
-  frames_ = 0;
+  frames_ = ticks_ = 0;
   rebuild();
 }
 
@@ -79,15 +90,15 @@ void BodyModelEstimator::add(const std::array<double, kNumBones>& length_ratio,
                              const std::array<double, kNumBones>& radius_mm) {
   if (!started()) return;
   ++frames_;
-  // Equal weights while converging (a running mean), then a fixed small rate.
+  // Equal weights while converging (a running mean), then a fixed small rate (radii only).
   auto step = [&](double& value, int& n, double measured) {
     ++n;
-    const double rate = 1.0 / (n <= params_.converge_frames ? n : params_.refine_frames);
+    const double rate = 1.0 / (n <= params_.converge_frames ? n : params_.radius_refine_frames);
     value += rate * (measured - value);
   };
   for (int b = 0; b < kNumBones; ++b) {
     const int s = shared_index(b);
-    if (std::isfinite(length_ratio[b])) {
+    if (!held() && std::isfinite(length_ratio[b])) {
       // The ratio was measured against the current model: the bone's absolute scale is the
       // current scale times the ratio (so the mean converges to the measured length, not 1).
       step(scale_[s], scale_n_[s],
@@ -101,11 +112,18 @@ void BodyModelEstimator::add(const std::array<double, kNumBones>& length_ratio,
     }
   }
   rebuild();
+  if (frames_ >= params_.converge_frames) version_ = std::max(version_, 1);
+}
+
+void BodyModelEstimator::tick() {
+  if (!started() || held()) return;
+  if (++ticks_ >= params_.hold_after_frames && frames_ >= params_.min_hold_frames) version_ = 1;
 }
 
 void BodyModelEstimator::rebuild() {
   for (int b = 0; b < kNumBones; ++b) {
-    model_.length_mm[b] = kBones[b].stature_ratio * reference_mm_ * scale_[shared_index(b)];
+    if (!held())
+      model_.length_mm[b] = kBones[b].stature_ratio * reference_mm_ * scale_[shared_index(b)];
     model_.radius_mm[b] = radius_[shared_index(b)];
   }
 }

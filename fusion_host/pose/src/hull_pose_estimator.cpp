@@ -62,6 +62,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     tracker_.start(det.joints_mm);
     reacquired_ = true;
   }
+  body_.tick();
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
   const bool have_median = score_median_.count() >= 8;
@@ -112,6 +113,11 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   out_.joints_mm = r->joints;
   if (jumped) filter_.reset();
   filter_.apply(out_.joints_mm, a.frame_s);
+  // The filter smooths every joint on its own, which changes bone lengths by up to ~1 %: the
+  // published pose keeps the filtered directions and gets the model's lengths back, so every
+  // frame of a held model has exactly its lengths.
+  impose_bone_lengths(out_.joints_mm, body_.model().length_mm);
+  out_.model_version = body_.version();
   last_output_ = out_.joints_mm;
   has_output_ = true;
   out_.confidence = r->confidence;

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "hullpose/common/dataset.hpp"
 #include "hullpose/common/joints.hpp"
 
 namespace hullpose::pose {
@@ -34,11 +35,25 @@ bool is_terminal(int bone);
 Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen::Vector3d& child,
                             double r);
 
+// Gives every bone of `joints` exactly `length_mm`, root (Chest) outward: each child is placed at
+// its length from its already placed parent along the bone's direction in `joints` as given.
+// A smoothed or otherwise edited pose keeps its bone directions and gets the model's lengths.
+// A zero-length bone keeps its child on the parent.
+void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBones>& length_mm);
+
 struct BodyModelParams {
-  // Frames averaged with equal weight before the model is held; afterwards each frame moves
-  // it by 1/refine_frames (slow refinement: a bad frame cannot pull it far).
-  int converge_frames = 60;  // 2 s at 30 fps: "converging within the first seconds"
-  int refine_frames = 600;   // 20 s
+  // Confident frames averaged with equal weight, after which the bone lengths are held (locked:
+  // every later frame is published with exactly these lengths, model version 1). 60 = 2 s at
+  // 30 fps, "converging within the first seconds".
+  int converge_frames = 60;
+  // A subject seen in few confident frames still gets a held model: once this many frames were
+  // tracked since the model started (5 s at 30 fps) it is held with what it has, if at least
+  // min_hold_frames of them were confident (10 = the bottom-up stature's settling count).
+  int hold_after_frames = 150;
+  int min_hold_frames = 10;
+  // Radii are not published and do not change bone lengths: after the hold each confident frame
+  // still moves them by 1/radius_refine_frames (20 s: a bad frame cannot pull them far).
+  int radius_refine_frames = 600;
   // A bone length or a radius may leave its prior by at most these factors. Bone lengths: the
   // CMU subjects' forearms are 0.7 of Table 6.7's and their upper arms 1.2; beyond 0.6..1.5 the
   // measurement, not the body, is wrong.
@@ -46,19 +61,28 @@ struct BodyModelParams {
   double min_radius_factor = 0.6, max_radius_factor = 2.5;
 };
 
-// Running estimate of the subject's model: bone length scales (relative to Table 6.7 at the
-// reference stature) and radii, each a running mean of per-frame measurements, left and right
-// bones of a pair averaged (one body).
+// Estimate of the subject's model: bone length scales (relative to Table 6.7 at the reference
+// stature) and radii, each a running mean of per-frame measurements, left and right bones of a
+// pair averaged (one body). Two states: converging (version() == 0, the lengths change with
+// every confident frame: what is published meanwhile is provisional) and held (version() >= 1:
+// the lengths never change again; reset() is refused while held, so a re-acquisition of the
+// same subject keeps them).
 class BodyModelEstimator {
  public:
   explicit BodyModelEstimator(BodyModelParams params = {});
+  // Starts converging from Table 6.7 at this stature. No effect once held.
   void reset(double reference_stature_mm);
   bool started() const { return reference_mm_ > 0; }
+  bool held() const { return version_ > 0; }
+  // skeleton_t::model_version: 0 while converging, 1 once held.
+  int version() const { return version_; }
   // One confident frame's measurements: the bone length ratios shown by the hull (measured /
   // model length, NaN where not measured) and each bone's mean surface distance (mm, NaN
   // where not measured).
   void add(const std::array<double, kNumBones>& length_ratio,
            const std::array<double, kNumBones>& radius_mm);
+  // One tracked frame, confident or not (the hold_after_frames clock).
+  void tick();
   const BodyModel& model() const { return model_; }
   int frames() const { return frames_; }
 
@@ -70,7 +94,7 @@ class BodyModelEstimator {
   std::array<int, kNumBones> scale_n_{};
   std::array<double, kNumBones> radius_{};
   std::array<int, kNumBones> radius_n_{};
-  int frames_ = 0;
+  int frames_ = 0, ticks_ = 0, version_ = 0;
   BodyModel model_;
 };
 
