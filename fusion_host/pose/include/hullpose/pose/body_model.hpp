@@ -63,9 +63,9 @@ struct BodyModelParams {
   // 30 fps, "converging within the first seconds".
   int converge_frames = 60;
   // A subject seen in few confident frames still gets a held model: once this many frames were
-  // tracked since the model started (5 s at 30 fps) it is held with what it has, if at least
+  // tracked since the model started (3 s at 30 fps) it is held with what it has, if at least
   // min_hold_frames of them were confident (10 = the bottom-up stature's settling count).
-  int hold_after_frames = 150;
+  int hold_after_frames = 90;  // 3 s
   int min_hold_frames = 10;
   // Radii are not published and do not change bone lengths: after the hold each confident frame
   // still moves them by 1/radius_refine_frames (20 s: a bad frame cannot pull them far).
