@@ -2,7 +2,10 @@
 // publishes SKELETON at --rate from a hullpose-synth motion (every --invalid-every'th frame
 // invalid, confidence falling towards the extremities), a STATUS per camera node (fps, drop
 // counters, trigger residuals) and one for the fusion host each second, and writes the rig
-// file (thesis8) for hullpose-web. Starts publishing once --wait-file exists (if given).
+// file (thesis8) for hullpose-web. With --hull-rate HZ it also publishes a hull on HULL through
+// the fusion host's own HullPublisher (fusion_host/service): capsules around the bones carved
+// into the 128³ grid of the rig's volume, coarsened and encoded as the host does. Starts
+// publishing once --wait-file exists (if given).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,29 +17,71 @@
 #include "hullpose/common/cli.hpp"
 #include "hullpose/common/time.hpp"
 #include "hullpose/common/tool.hpp"
+#include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/fusion_host/hull_publisher.hpp"
 #include "hullpose/msg/wire.hpp"
 #include "hullpose/skeleton_io/take.hpp"
 #include "hullpose/synth/motion.hpp"
 #include "hullpose/synth/rig_gen.hpp"
 
+namespace {
+// The body as a carved hull would show it: every voxel within `radius_mm` of a bone.
+void carve_capsules(const hullpose::JointPositions& joints, const hullpose::VoxelGridSpec& spec,
+                    double radius_mm, hullpose::fusion::BitGrid& hull) {
+  hull.reset(spec.dims);
+  for (const hullpose::Bone& b : hullpose::kBones) {
+    const Eigen::Vector3d a = joints[static_cast<size_t>(hullpose::index(b.parent))];
+    const Eigen::Vector3d c = joints[static_cast<size_t>(hullpose::index(b.child))];
+    const Eigen::Vector3d lo = a.cwiseMin(c).array() - radius_mm,
+                          hi = a.cwiseMax(c).array() + radius_mm;
+    const Eigen::Vector3i v0 = ((lo - spec.origin_mm) / spec.voxel_mm).cast<int>().cwiseMax(0);
+    const Eigen::Vector3i v1 = ((hi - spec.origin_mm) / spec.voxel_mm)
+                                   .cast<int>()
+                                   .cwiseMin(spec.dims - Eigen::Vector3i::Ones());
+    const Eigen::Vector3d ab = c - a;
+    const double len2 = std::max(ab.squaredNorm(), 1e-9);
+    for (int z = v0.z(); z <= v1.z(); ++z)
+      for (int y = v0.y(); y <= v1.y(); ++y)
+        for (int x = v0.x(); x <= v1.x(); ++x) {
+          const Eigen::Vector3d p = spec.centre_mm({x, y, z});
+          const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+          if ((p - (a + t * ab)).norm() <= radius_mm) hull.set(x, y, z);
+        }
+  }
+}
+}  // namespace
+
 int run(int argc, const char* const* argv) {
   std::string url, motion = "walk", rig_out, wait_file;
-  double rate = 30;
+  double rate = 30, hull_rate = 0;
   long long count = 90, invalid_every = 10;
   hullpose::cli::CommandLine cl(
       "usage: consumers_sim_rig --lcm-url URL [--motion walk] [--rate 30] [--count 90] "
-      "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE]\n");
+      "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE] [--hull-rate HZ]\n");
   cl.option("--lcm-url", url)
       .option("--motion", motion)
       .option("--rate", rate)
       .option("--count", count)
       .option("--invalid-every", invalid_every)
       .option("--rig-out", rig_out)
-      .option("--wait-file", wait_file);
+      .option("--wait-file", wait_file)
+      .option("--hull-rate", hull_rate);
   if (!cl.parse(argc, argv)) return 0;
   const hullpose::Rig rig = hullpose::synth::rig_from_name_or_file("thesis8");
   if (!rig_out.empty()) hullpose::save_rig(rig, rig_out);
   const auto bus = hullpose::bus::open_bus(url);
+  hullpose::Counters counters;
+  std::unique_ptr<hullpose::fusion::HullPublisher> hull_publisher;
+  const hullpose::VoxelGridSpec hull_grid = hullpose::VoxelGridSpec::fit(rig.volume, 128);
+  hullpose::fusion::BitGrid hull;
+  long long hull_every = 0;
+  if (hull_rate > 0) {
+    hullpose::fusion::HullPublishOptions ho;
+    ho.rate_hz = hull_rate;
+    hull_publisher =
+        std::make_unique<hullpose::fusion::HullPublisher>(*bus, rig.rig_id, ho, counters);
+    hull_every = std::max(1LL, std::llround(rate / hull_rate));
+  }
   std::vector<uint8_t> scratch;
   hullpose::synth::MotionOptions mo;
   mo.centre_mm = 0.5 * (rig.volume.min_mm + rig.volume.max_mm);
@@ -64,6 +109,10 @@ int run(int argc, const char* const* argv) {
     f.published_us = 42'000 + static_cast<int32_t>(k % 7) * 1000;
     hullpose::skeleton_io::to_message(f, rig.rig_id, msg);
     hullpose::wire::publish(*bus, "SKELETON", msg, scratch);
+    if (hull_publisher && f.valid && k % hull_every == 0) {
+      carve_capsules(f.joints, hull_grid, 90, hull);
+      hull_publisher->offer(hull, hull_grid, f.utime, f.seq);
+    }
     if (k % static_cast<long long>(rate) == 0) {
       for (int c = -1; c < static_cast<int>(rig.cameras.size()); ++c) {
         hullpose_msg::node_status_t s{};
@@ -89,6 +138,7 @@ int run(int argc, const char* const* argv) {
     next += period;
     std::this_thread::sleep_until(next);  // the rig's trigger clock
   }
+  if (hull_publisher) hull_publisher->drain();
   return 0;
 }
 

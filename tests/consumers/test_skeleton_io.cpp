@@ -304,3 +304,43 @@ TEST_CASE("subscription: skeletons and statuses from the bus; malformed and fore
   CHECK(sub.counters().get("malformed_status") == 1);
   CHECK(sub.counters().get("foreign_rig") == 1);
 }
+
+TEST_CASE("subscription: hulls checked field by field; hostile ones counted, never drawn") {
+  const auto bus = bus::open_bus("memq://");
+  std::vector<int64_t> drawn;
+  SubscriptionOptions o;
+  o.rig_id = "rigA";
+  Subscription sub(
+      *bus, o, [](const SkeletonFrame&, int64_t) {}, {},
+      [&](const msg::CoarseHull& h) { drawn.push_back(h.trigger_seq); });
+  msg::CoarseHull h;
+  h.dims = {4, 3, 2};
+  h.origin_mm = {-100, -100, 0};
+  h.voxel_mm = 100;
+  h.carved_voxel_mm = 25;
+  h.occupancy = cv::Mat::zeros(6, 4, CV_8UC1);
+  h.occupancy.at<uint8_t>(1 + 3 * 1, 2) = 255;  // voxel (2, 1, 1)
+  h.num_occupied = 1;
+  h.trigger_seq = 5;
+  SilhouetteEncoder enc;
+  hullpose_msg::hull_t m;
+  msg::to_message(h, "rigA", enc, m);
+  wire::publish(*bus, "HULL", m);
+  auto bad = m;
+  bad.nx = 65;
+  wire::publish(*bus, "HULL", bad);
+  bad = m;
+  bad.num_occupied = 2;
+  wire::publish(*bus, "HULL", bad);
+  bad = m;
+  bad.rig_id = "rigB";
+  wire::publish(*bus, "HULL", bad);
+  const std::vector<uint8_t> garbage = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  bus->publish("HULL", garbage);
+  sub.poll(0);
+  CHECK(drawn == std::vector<int64_t>{5});
+  CHECK(sub.counters().get("invalid_hull_bad_dims") == 1);
+  CHECK(sub.counters().get("invalid_hull_bad_count") == 1);
+  CHECK(sub.counters().get("foreign_rig") == 1);
+  CHECK(sub.counters().get("malformed_hull") == 1);
+}
