@@ -4,12 +4,15 @@
 // counters, trigger residuals) and one for the fusion host each second, and writes the rig
 // file (thesis8) for hullpose-web. With --hull-rate HZ it also publishes a hull on HULL through
 // the fusion host's own HullPublisher (fusion_host/service): capsules around the bones carved
-// into the 128³ grid of the rig's volume, coarsened and encoded as the host does. Starts
+// into the 128³ grid of the rig's volume, coarsened and encoded as the host does; with
+// --hostile-hulls each is followed by hostile copies (bad size, geometry, count, payload, and
+// one cut short) that a view must count and drop. Starts
 // publishing once --wait-file exists (if given).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <hullpose_msg/node_status_t.hpp>
+#include <limits>
 #include <thread>
 
 #include "hullpose/common/bus.hpp"
@@ -53,11 +56,13 @@ void carve_capsules(const hullpose::JointPositions& joints, const hullpose::Voxe
 
 int run(int argc, const char* const* argv) {
   std::string url, motion = "walk", rig_out, wait_file;
+  bool hostile_hulls = false;
   double rate = 30, hull_rate = 0;
   long long count = 90, invalid_every = 10;
   hullpose::cli::CommandLine cl(
       "usage: consumers_sim_rig --lcm-url URL [--motion walk] [--rate 30] [--count 90] "
-      "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE] [--hull-rate HZ]\n");
+      "[--invalid-every 10] [--rig-out FILE] [--wait-file FILE] [--hull-rate HZ "
+      "[--hostile-hulls]]\n");
   cl.option("--lcm-url", url)
       .option("--motion", motion)
       .option("--rate", rate)
@@ -65,7 +70,8 @@ int run(int argc, const char* const* argv) {
       .option("--invalid-every", invalid_every)
       .option("--rig-out", rig_out)
       .option("--wait-file", wait_file)
-      .option("--hull-rate", hull_rate);
+      .option("--hull-rate", hull_rate)
+      .flag("--hostile-hulls", hostile_hulls);
   if (!cl.parse(argc, argv)) return 0;
   const hullpose::Rig rig = hullpose::synth::rig_from_name_or_file("thesis8");
   if (!rig_out.empty()) hullpose::save_rig(rig, rig_out);
@@ -75,6 +81,10 @@ int run(int argc, const char* const* argv) {
   const hullpose::VoxelGridSpec hull_grid = hullpose::VoxelGridSpec::fit(rig.volume, 128);
   hullpose::fusion::BitGrid hull;
   long long hull_every = 0;
+  hullpose::msg::CoarseHull coarse;
+  std::vector<uint64_t> coarse_scratch;
+  hullpose::SilhouetteEncoder encoder;
+  hullpose_msg::hull_t bad;
   if (hull_rate > 0) {
     hullpose::fusion::HullPublishOptions ho;
     ho.rate_hz = hull_rate;
@@ -112,6 +122,35 @@ int run(int argc, const char* const* argv) {
     if (hull_publisher && f.valid && k % hull_every == 0) {
       carve_capsules(f.joints, hull_grid, 90, hull);
       hull_publisher->offer(hull, hull_grid, f.utime, f.seq);
+      if (hostile_hulls)
+        hullpose::fusion::coarsen_hull(hull, hull_grid, 64, coarse, coarse_scratch);
+      for (int kind = 0; hostile_hulls && kind < 5; ++kind) {
+        hullpose::msg::to_message(coarse, rig.rig_id, encoder, bad);
+        bool send = true;
+        switch (kind) {
+          case 0:
+            bad.nx = 65;
+            break;
+          case 1:
+            bad.num_occupied += 1;
+            break;
+          case 2:
+            bad.voxel_mm = std::numeric_limits<float>::quiet_NaN();
+            break;
+          case 3:
+            bad.payload.resize(bad.payload.size() / 2);
+            bad.payload_size = static_cast<int32_t>(bad.payload.size());
+            break;
+          default: {  // cut short on the wire: wire::decode refuses it
+            std::vector<uint8_t> b(static_cast<size_t>(bad.getEncodedSize()));
+            bad.encode(b.data(), 0, static_cast<int>(b.size()));
+            bus->publish("HULL", std::span<const uint8_t>(b.data(), b.size() - 7));
+            send = false;
+            break;
+          }
+        }
+        if (send) hullpose::wire::publish(*bus, "HULL", bad, scratch);
+      }
     }
     if (k % static_cast<long long>(rate) == 0) {
       for (int c = -1; c < static_cast<int>(rig.cameras.size()); ++c) {

@@ -51,11 +51,15 @@ print("logged channels (hull off):", channels)
 sys.exit("FAIL: HULL was sent with the hull channel off" if "HULL" in channels or not channels.get("SKELETON") else 0)
 PY
 
-# The hull on: the rig publishes it through the fusion host's HullPublisher at 5 Hz.
-"$build/tests/consumers/consumers_sim_rig" --lcm-url "$url" --rate 30 --count 100000 --hull-rate 5 2> "$work/rig-hull.log" & rig=$!; pids+=($rig)
+# The hull on: the rig publishes it through the fusion host's HullPublisher at 5 Hz, each hull
+# followed by hostile ones (a bad field of each kind, and one cut short) that must be dropped.
+"$build/tests/consumers/consumers_sim_rig" --lcm-url "$url" --rate 30 --count 100000 --hull-rate 5 --hostile-hulls \
+  2> "$work/rig-hull.log" & rig=$!; pids+=($rig)
 /usr/bin/python3 "$here/browser_check.py" "$(field "$work/web.json" url)" "$shots/web.png" --min-skeletons 30 --hull | tee "$work/live-hull.json"
 kill "$rig" "$web"; wait "$rig" "$web" 2>/dev/null || true
-grep -q 'invalid_hull\|malformed_hull' "$work/web.log" && { echo "FAIL: hullpose-web dropped hulls"; cat "$work/web.log"; exit 1; }
+for c in invalid_hull_bad_dims invalid_hull_bad_count invalid_hull_bad_geometry invalid_hull_bad_payload malformed_hull; do
+  grep -q "hullpose-web: $c=[1-9]" "$work/web.log" || { echo "FAIL: hullpose-web did not count hostile hulls as $c"; cat "$work/web.log"; exit 1; }
+done
 
 # Playback of the recorded take, no LCM.
 "$build/tools/web/hullpose-web" --rig "$work/rig.yaml" --play "$work/take.lcmlog" --port 0 --ready-file "$work/play.json" \
