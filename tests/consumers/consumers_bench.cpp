@@ -104,14 +104,14 @@ double pct(std::vector<double> v, double q) {
 }  // namespace
 
 int run(int argc, const char* const* argv) {
-  std::string url, only;
+  std::string url, only, suffix;
   long long pid = 0;
   int web_port = 0, vmc_port = 0, bvh_port = 0;
   long long frames = 300, warm = 10;
   double rate = 30;
   hullpose::cli::CommandLine cl(
       "usage: consumers_bench --lcm-url URL [--web-port P] [--vmc-port P] [--bvh-port P] "
-      "[--only web|vmc|bvh_tcp --pid CONSUMER_PID] [--frames 300] [--rate 30]\n");
+      "[--only web|vmc|bvh_tcp --pid CONSUMER_PID] [--frames 300] [--rate 30] [--name-suffix S]\n");
   cl.option("--lcm-url", url)
       .option("--web-port", web_port)
       .option("--vmc-port", vmc_port)
@@ -119,7 +119,8 @@ int run(int argc, const char* const* argv) {
       .option("--frames", frames)
       .option("--rate", rate)
       .option("--only", only)
-      .option("--pid", pid);
+      .option("--pid", pid)
+      .option("--name-suffix", suffix);
   if (!cl.parse(argc, argv)) return 0;
   HULLPOSE_THROW_UNLESS(only.empty() || only == "web" || only == "vmc" || only == "bvh_tcp",
                         "--only must be web, vmc or bvh_tcp, got '" << only << "'");
@@ -241,7 +242,7 @@ int run(int argc, const char* const* argv) {
     std::printf(
         "%s\n",
         nlohmann::json{
-            {"name", std::string("consumers_added_latency_") + name + "_30hz"},
+            {"name", std::string("consumers_added_latency_") + name + "_30hz" + suffix},
             {"median_ms", pct(added, 0.5)},
             {"p99_ms", pct(added, 0.99)},
             {"max_ms", added.empty() ? 0 : *std::max_element(added.begin(), added.end())},
