@@ -53,18 +53,21 @@ T parse_number(std::string_view text, const fs::path& path, int line_no, const c
   return value;
 }
 
-// Shared by ground truth (frame,utime,...) and estimates (frame,valid,reason,...).
+// Shared by ground truth (frame,utime,...) and estimates (frame,valid,reason[,model],...).
+// `old_lead_header`, if not empty, is an older layout still accepted (its missing columns
+// default).
 std::vector<PoseRecord> read_pose_csv(const fs::path& path, const std::string& lead_header,
-                                      bool estimates) {
+                                      bool estimates, const std::string& old_lead_header = "") {
   std::ifstream in(path);
   HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
   std::string line;
   HULLPOSE_THROW_UNLESS(std::getline(in, line), path.string() << ": empty file");
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  const std::string header = lead_header + joint_columns();
-  HULLPOSE_THROW_UNLESS(line == header, path.string() << ":1: header must be '" << lead_header
-                                                      << ",HeadTop_x,...,RToe_z'");
-  const size_t lead = split(lead_header).size();
+  const bool old_layout = !old_lead_header.empty() && line == old_lead_header + joint_columns();
+  HULLPOSE_THROW_UNLESS(line == lead_header + joint_columns() || old_layout,
+                        path.string()
+                            << ":1: header must be '" << lead_header << ",HeadTop_x,...,RToe_z'");
+  const size_t lead = split(old_layout ? old_lead_header : lead_header).size();
   std::vector<PoseRecord> records;
   int line_no = 1;
   while (std::getline(in, line)) {
@@ -82,6 +85,7 @@ std::vector<PoseRecord> read_pose_csv(const fs::path& path, const std::string& l
                             path.string() << ":" << line_no << ": valid must be 0 or 1");
       r.valid = valid == 1;
       r.reason = parse_number<int>(f[2], path, line_no, "reason");
+      if (!old_layout) r.model_version = parse_number<int>(f[3], path, line_no, "model");
     } else {
       r.utime = parse_number<int64_t>(f[1], path, line_no, "utime");
     }
@@ -256,17 +260,17 @@ std::vector<PoseRecord> read_ground_truth(const fs::path& path) {
 
 EstimateWriter::EstimateWriter(const fs::path& path) : path_(path), out_(path) {
   HULLPOSE_THROW_UNLESS(out_, path.string() << ": cannot write");
-  out_ << "frame,valid,reason" << joint_columns() << '\n';
+  out_ << "frame,valid,reason,model" << joint_columns() << '\n';
 }
 
 void EstimateWriter::write(const PoseRecord& r) {
-  out_ << r.frame << ',' << (r.valid ? 1 : 0) << ',' << r.reason;
+  out_ << r.frame << ',' << (r.valid ? 1 : 0) << ',' << r.reason << ',' << r.model_version;
   write_joints(out_, r.joints);
   HULLPOSE_THROW_UNLESS(out_, path_.string() << ": write failed");
 }
 
 std::vector<PoseRecord> read_estimates(const fs::path& path) {
-  return read_pose_csv(path, "frame,valid,reason", true);
+  return read_pose_csv(path, "frame,valid,reason,model", true, "frame,valid,reason");
 }
 
 }  // namespace hullpose

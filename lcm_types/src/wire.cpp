@@ -75,7 +75,8 @@ bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::skeleton_t*
   const int32_t joints = c.count(kMaxJoints);
   for (int32_t i = 0; i < joints && c.ok(); ++i) c.string();
   c.skip(static_cast<size_t>(joints) * (3 * 4 + 4));  // position, confidence
-  c.skip(1 + 1 + 8 + 4 + 5 * 4);  // valid, reason, cameras_used_mask, num_cameras_used, latencies
+  // valid, reason, model_version, cameras_used_mask, num_cameras_used, latencies
+  c.skip(1 + 1 + 4 + 8 + 4 + 5 * 4);
   return c.done();
 }
 

@@ -1,13 +1,16 @@
 #!/usr/bin/python3
 """Joints from a BVH reader's forward kinematics (bvh_fk.js) against the joints they were made of.
 
-usage: bvh_compare.py FK.csv POSES.csv GAPS.json [--exact]
+usage: bvh_compare.py FK.csv POSES.csv GAPS.json [--exact] [--held MIN]
 POSES.csv: an estimate or ground-truth file (docs/conventions.md). Frames the exporter marked
 "measured" are compared. Our BVH holds the subject's (median) bone lengths for the whole take,
 so a joint can differ from a frame whose bones are longer or shorter by at most the sum of those
 length differences along its chain from the pelvis; with directions right it differs by no
 more. --exact: the poses have the subject's lengths (ground truth), every joint within 1 mm.
-Otherwise: every joint within 1 mm plus its chain's length difference. Prints a JSON summary.
+Otherwise: every joint within 1 mm plus its chain's length difference. --held MIN: frames whose
+`model` column (skeleton_t.model_version: the fusion host's held body model, whose bone lengths
+every such frame has exactly) is >= 1 must be within 1 mm, and there must be at least MIN of
+them; the provisional frames before the hold keep the chain bound. Prints a JSON summary.
 """
 import csv, json, math, sys
 
@@ -39,6 +42,7 @@ def chains():
 def main():
     fk_path, poses_path, gaps_path = sys.argv[1:4]
     exact = "--exact" in sys.argv
+    min_held = int(sys.argv[sys.argv.index("--held") + 1]) if "--held" in sys.argv else None
     fk = list(csv.DictReader(open(fk_path)))
     poses = list(csv.DictReader(open(poses_path)))
     states = json.load(open(gaps_path))["frames"]
@@ -56,13 +60,16 @@ def main():
     lengths = {b: sorted(math.dist(joint(r, b[0]), joint(r, b[1])) for r in valid) for b in BONES}
     subject = {b: v[len(v) // 2] for b, v in lengths.items()}  # the exporter's median (upper median)
     path = chains()
-    errors, excess, worst = [], -1e9, None
+    errors, held_errors, excess, worst = [], [], -1e9, None
     for f, (a, p, s) in enumerate(zip(fk, poses, states)):
         if s != "measured":
             continue
+        held = min_held is not None and int(p.get("model", 0)) >= 1
         for n in NAMES:
             e = math.dist(fk_joint(a, n), joint(p, n))
-            bound = 1.0 if exact else 1.0 + sum(abs(math.dist(joint(p, u), joint(p, v)) - subject[(u, v) if (u, v) in subject else (v, u)])
+            if held:
+                held_errors.append(e)
+            bound = 1.0 if exact or held else 1.0 + sum(abs(math.dist(joint(p, u), joint(p, v)) - subject[(u, v) if (u, v) in subject else (v, u)])
                                                 for u, v in path[n])
             errors.append(e)
             if e - bound > excess:
@@ -71,7 +78,14 @@ def main():
     summary = {"frames_compared": len(valid), "joints": len(NAMES), "max_mm": round(errors[-1], 4),
                "p50_mm": round(errors[len(errors) // 2], 4), "p99_mm": round(errors[int(0.99 * (len(errors) - 1))], 4),
                "worst_against_bound": worst, "exact": exact}
+    if min_held is not None:
+        held_errors.sort()
+        summary.update({"held_frames": len(held_errors) // len(NAMES),
+                        "held_max_mm": round(held_errors[-1], 4) if held_errors else None,
+                        "held_p99_mm": round(held_errors[int(0.99 * (len(held_errors) - 1))], 4) if held_errors else None})
     print(json.dumps(summary))
+    if min_held is not None and len(held_errors) // len(NAMES) < min_held:
+        sys.exit(f"FAIL: {len(held_errors) // len(NAMES)} frames of a held body model, expected at least {min_held}")
     if excess > 0:
         sys.exit(f"FAIL: frame {worst[0]} joint {worst[1]}: {worst[2]} mm off, allowed {worst[3]} mm")
 

@@ -100,28 +100,79 @@ TEST_CASE("a limb the hull does not show stays where the model says, with low co
   CHECK(r.confidence[index(Joint::LHand)] > 0.5f * shown);
 }
 
-TEST_CASE("the body model converges to what the frames measure, then moves slowly") {
+namespace {
+// The evidence of `points` surface points at the cap of `bone` that lies `target_mm` from its
+// parent, linearised at the model's current lengths (r = current - target, dr/dlength = 1).
+LengthEvidence cap_at(const BodyModel& m, int bone, double target_mm, double points) {
+  LengthEvidence e;
+  e.at_mm = m.length_mm;
+  e.hessian(bone, bone) = points;
+  e.gradient(bone) = points * (m.length_mm[bone] - target_mm);
+  e.measured = true;
+  return e;
+}
+}  // namespace
+
+TEST_CASE("the body model converges to what the frames measure, then is held") {
   BodyModelParams p;
   p.converge_frames = 10;
-  p.refine_frames = 100;
   BodyModelEstimator est(p);
   est.reset(1600);
-  const int thigh = 16;
-  std::array<double, kNumBones> ratio, radius;
-  ratio.fill(std::nan(""));
+  CHECK(est.version() == 0);
+  const int thigh = 16, upper_arm = 5;
+  std::array<double, kNumBones> radius;
   radius.fill(std::nan(""));
-  // The thigh measures 10 % longer than Table 6.7 at 1600 mm, every frame.
-  for (int f = 0; f < 30; ++f) {
-    ratio[thigh] = 0.224 * 1600 * 1.1 / est.model().length_mm[thigh];
-    est.add(ratio, radius);
-  }
-  CHECK(est.model().length_mm[thigh] == Approx(0.224 * 1600 * 1.1).epsilon(0.01));
+  // The thigh shows 10 % more than Table 6.7 at 1600 mm on every frame; the upper arm shows
+  // nothing (a frame with no evidence on a bone leaves it at the prior, not diluted).
+  const double target = 0.224 * 1600 * 1.1;
+  for (int f = 0; f < 9; ++f) est.add(cap_at(est.model(), thigh, target, 30), radius);
+  CHECK(est.model().length_mm[thigh] == Approx(target).epsilon(0.02));
   CHECK(est.model().length_mm[thigh + 1] == est.model().length_mm[thigh]);  // one body: both thighs
-  // One wild frame moves it by 1/refine_frames at most, clamped.
-  const double held = est.model().length_mm[thigh];
-  ratio[thigh] = 10;
-  est.add(ratio, radius);
-  CHECK(std::abs(est.model().length_mm[thigh] - held) < 0.01 * held);
+  CHECK(est.model().length_mm[upper_arm] == Approx(0.162 * 1600));
+  CHECK(!est.held());
+  est.add(cap_at(est.model(), thigh, target, 30), radius);
+  // Held after converge_frames: no measurement and no reset changes a length again.
+  CHECK(est.held());
+  CHECK(est.version() == 1);
+  const BodyModel held = est.model();
+  est.add(cap_at(est.model(), thigh, 10 * target, 1000), radius);
+  est.reset(1000);
+  for (int b = 0; b < kNumBones; ++b) CHECK(est.model().length_mm[b] == held.length_mm[b]);
+}
+
+TEST_CASE("a subject seen in few confident frames is held after hold_after_frames") {
+  BodyModelParams p;
+  BodyModelEstimator est(p);
+  est.reset(1700);
+  std::array<double, kNumBones> radius;
+  radius.fill(std::nan(""));
+  for (int f = 0; f < p.hold_after_frames - 1; ++f) {
+    est.tick();
+    if (f % 10 == 0) est.add(LengthEvidence{}, radius);  // 15 confident frames of 149
+  }
+  CHECK(!est.held());
+  est.tick();
+  CHECK(est.version() == 1);
+}
+
+TEST_CASE("impose_bone_lengths keeps directions and gives the model's lengths") {
+  const BodyModel m = BodyModel::from_stature(1700);
+  JointPositions pose = stick_figure(1700, arms_down());
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0, 8);
+  for (auto& j : pose) {
+    const double x = noise(rng), y = noise(rng), z = noise(rng);  // named: a defined order
+    j += Eigen::Vector3d(x, y, z);
+  }
+  const JointPositions given = pose;
+  impose_bone_lengths(pose, m.length_mm);
+  CHECK(pose[index(Joint::Chest)] == given[index(Joint::Chest)]);
+  for (int b = 0; b < kNumBones; ++b) {
+    const int pa = index(kBones[b].parent), c = index(kBones[b].child);
+    CHECK((pose[c] - pose[pa]).norm() == Approx(m.length_mm[b]).margin(1e-9));
+    CHECK((pose[c] - pose[pa]).normalized().dot((given[c] - given[pa]).normalized()) ==
+          Approx(1.0).margin(1e-12));
+  }
 }
 
 TEST_CASE("One Euro: a still joint is smoothed, a moving one lags less than a frame") {

@@ -101,3 +101,52 @@ TEST_CASE(
   CHECK(recovered_at >= 0);
   CHECK(recovered_at <= kRecoveryFrames);
 }
+
+TEST_CASE("every frame of a held body model has its bone lengths, through garbage and recovery") {
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  HullPoseEstimator stage(stick_params());
+  fusion::BitGrid hull;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(2, g.dims.x() - 3);
+  int held_from = -1, held_frames = 0;
+  BodyModel held;
+  for (int f = 0; f < 200; ++f) {
+    std::vector<Eigen::Vector3i> skeleton;
+    if (f >= 120 && f < 130) {  // garbage, as above
+      hull.reset(g.dims);
+      for (int n = 0; n < 200; ++n) {
+        const int x = coord(rng), y = coord(rng), z = coord(rng);  // named: a defined order
+        skeleton.emplace_back(x, y, z);
+        hull.set(x, y, z);
+      }
+      dedupe(skeleton);
+    } else {
+      // Walks back and forth across the grid (a re-acquisition at each turn is possible).
+      const JointPositions truth = walk(f % 80 < 40 ? f % 40 : 40 - f % 40);
+      capsule_hull(g, truth, body, hull);
+      skeleton = rasterise(g, truth);
+    }
+    const PoseEstimate& e = stage.estimate(skeleton, &hull, g);
+    if (e.model_version == 0) {
+      CHECK(held_from < 0);  // once held, always held
+      continue;
+    }
+    if (held_from < 0) {
+      held_from = f;
+      held = stage.body_model();
+    }
+    ++held_frames;
+    CHECK(e.model_version == 1);
+    for (int b = 0; b < kNumBones; ++b) {
+      INFO("frame " << f << " bone " << b);
+      CHECK(stage.body_model().length_mm[b] == held.length_mm[b]);
+      CHECK((e.joints_mm[index(kBones[b].child)] - e.joints_mm[index(kBones[b].parent)]).norm() ==
+            Approx(held.length_mm[b]).margin(1e-6));
+    }
+  }
+  INFO("held from frame " << held_from);
+  CHECK(held_from >= 0);
+  CHECK(held_from <= 100);  // 60 confident frames after the stature settles (~10 frames)
+  CHECK(held_frames == 200 - held_from);
+}

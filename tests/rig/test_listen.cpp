@@ -19,6 +19,7 @@ hullpose_msg::skeleton_t skeleton(int64_t seq, bool valid, int32_t published_us,
   s.confidence.assign(kNumJoints, 1.f);
   s.valid = valid;
   s.reason = valid ? 0 : 1;
+  s.model_version = 3;
   s.num_cameras_used = cams;
   s.cameras_used_mask = 0xFF;
   s.capture_us = 100;
@@ -72,9 +73,9 @@ TEST_CASE("CSV, JSON lines and estimate rows have one field per header column") 
   CHECK(row.rfind("7,1007,1,0,8,255,100,2000,2500,8500,9000,1.5,-2,7", 0) == 0);
   std::getline(e, h);
   std::getline(e, row);
-  CHECK(h.rfind("frame,valid,reason,HeadTop_x,HeadTop_y,HeadTop_z", 0) == 0);
+  CHECK(h.rfind("frame,valid,reason,model,HeadTop_x,HeadTop_y,HeadTop_z", 0) == 0);
   CHECK(fields(row) == fields(h));
-  CHECK(row.rfind("7,1,0,1.5,-2,107", 0) == 0);
+  CHECK(row.rfind("7,1,0,3,1.5,-2,107", 0) == 0);
   CHECK_THAT(jsonl.str(), Catch::EndsWith("}\n"));
   const auto line = nlohmann::json::parse(jsonl.str());
   CHECK(line["trigger_seq"] == 7);

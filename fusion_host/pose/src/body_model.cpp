@@ -1,5 +1,13 @@
+// GCC 12 with -march=native reports false "uninitialized" warnings inside Eigen's AVX-512
+// dense kernels (the length evidence's 24x24 products and LDLT); not ours to fix (as in
+// tools/calibrate/src/bundle_adjust.cpp).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
 #include "hullpose/pose/body_model.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
@@ -35,6 +43,16 @@ Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen
   return len > r ? Eigen::Vector3d(child - d * (r / len)) : parent;
 }
 
+void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBones>& length_mm) {
+  const JointPositions given = joints;
+  for (int b = 0; b < kNumBones; ++b) {  // kBones lists parents before children
+    const int p = index(kBones[b].parent), c = index(kBones[b].child);
+    const Eigen::Vector3d d = given[c] - given[p];
+    const double n = d.norm();
+    joints[c] = n > 1e-9 ? Eigen::Vector3d(joints[p] + d * (length_mm[b] / n)) : joints[p];
+  }
+}
+
 BodyModel BodyModel::from_stature(double stature_mm) {
   BodyModel m;
   for (int b = 0; b < kNumBones; ++b) {
@@ -66,46 +84,75 @@ int shared_index(int bone) {
 BodyModelEstimator::BodyModelEstimator(BodyModelParams params) : params_(params) {}
 
 void BodyModelEstimator::reset(double reference_stature_mm) {
+  if (held()) return;
   reference_mm_ = reference_stature_mm;
   scale_.fill(1.0);
-  scale_n_.fill(0);
+  evidence_a_.setZero();
+  evidence_b_.setZero();
   for (int b = 0; b < kNumBones; ++b) radius_[b] = prior_radius_ratio(b) * reference_stature_mm;
   radius_n_.fill(0);
-  frames_ = 0;
+  frames_ = ticks_ = 0;
   rebuild();
 }
 
-void BodyModelEstimator::add(const std::array<double, kNumBones>& length_ratio,
+void BodyModelEstimator::add(const LengthEvidence& lengths,
                              const std::array<double, kNumBones>& radius_mm) {
   if (!started()) return;
   ++frames_;
-  // Equal weights while converging (a running mean), then a fixed small rate.
-  auto step = [&](double& value, int& n, double measured) {
-    ++n;
-    const double rate = 1.0 / (n <= params_.converge_frames ? n : params_.refine_frames);
-    value += rate * (measured - value);
-  };
+  if (!held() && lengths.measured) {
+    for (int i = 0; i < kNumBones; ++i) {
+      const int si = shared_index(i);
+      double hl = 0;
+      for (int j = 0; j < kNumBones; ++j) {
+        evidence_a_(si, shared_index(j)) += lengths.hessian(i, j);
+        hl += lengths.hessian(i, j) * lengths.at_mm[j];
+      }
+      evidence_b_(si) += hl - lengths.gradient(i);
+    }
+    LengthEvidence::Matrix m = evidence_a_;
+    LengthEvidence::Vector rhs = evidence_b_;
+    for (int b = 0; b < kNumBones; ++b) {
+      const double prior_mm = kBones[b].stature_ratio * reference_mm_;
+      // Right bones of a pair have no row of their own (their evidence is the left's): the
+      // prior alone keeps the system regular there.
+      // Relative: a short bone's prior is as stiff, per per cent of its length, as a long one's
+      // (else the tips' caps, which show the chain's total, move the short end bones most).
+      const double rel = params_.prior_reference_ratio / kBones[b].stature_ratio;
+      m(b, b) += params_.length_prior_points * rel * rel;
+      rhs(b) += params_.length_prior_points * rel * rel * prior_mm;
+    }
+    const LengthEvidence::Vector l = m.ldlt().solve(rhs);
+    for (int b = 0; b < kNumBones; ++b)
+      if (shared_index(b) == b)
+        scale_[b] = std::clamp(l(b) / (kBones[b].stature_ratio * reference_mm_), params_.min_scale,
+                               params_.max_scale);
+  }
+  // Radii: equal weights while converging (a running mean), then a fixed small rate.
   for (int b = 0; b < kNumBones; ++b) {
+    if (!std::isfinite(radius_mm[b])) continue;
     const int s = shared_index(b);
-    if (std::isfinite(length_ratio[b])) {
-      // The ratio was measured against the current model: the bone's absolute scale is the
-      // current scale times the ratio (so the mean converges to the measured length, not 1).
-      step(scale_[s], scale_n_[s],
-           std::clamp(scale_[s] * length_ratio[b], params_.min_scale, params_.max_scale));
-    }
-    if (std::isfinite(radius_mm[b])) {
-      const double prior = prior_radius_ratio(b) * reference_mm_;
-      step(radius_[s], radius_n_[s],
-           std::clamp(radius_mm[b], params_.min_radius_factor * prior,
-                      params_.max_radius_factor * prior));
-    }
+    ++radius_n_[s];
+    const double rate =
+        1.0 /
+        (radius_n_[s] <= params_.converge_frames ? radius_n_[s] : params_.radius_refine_frames);
+    const double prior = prior_radius_ratio(b) * reference_mm_;
+    radius_[s] += rate * (std::clamp(radius_mm[b], params_.min_radius_factor * prior,
+                                     params_.max_radius_factor * prior) -
+                          radius_[s]);
   }
   rebuild();
+  if (frames_ >= params_.converge_frames) version_ = std::max(version_, 1);
+}
+
+void BodyModelEstimator::tick() {
+  if (!started() || held()) return;
+  if (++ticks_ >= params_.hold_after_frames && frames_ >= params_.min_hold_frames) version_ = 1;
 }
 
 void BodyModelEstimator::rebuild() {
   for (int b = 0; b < kNumBones; ++b) {
-    model_.length_mm[b] = kBones[b].stature_ratio * reference_mm_ * scale_[shared_index(b)];
+    if (!held())
+      model_.length_mm[b] = kBones[b].stature_ratio * reference_mm_ * scale_[shared_index(b)];
     model_.radius_mm[b] = radius_[shared_index(b)];
   }
 }

@@ -62,6 +62,9 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     tracker_.start(det.joints_mm);
     reacquired_ = true;
   }
+  body_.tick();
+  tracker_.set_measure_lengths(!body_.held());
+  candidate_.set_measure_lengths(!body_.held());
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
   const bool have_median = score_median_.count() >= 8;
@@ -103,7 +106,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <
                                                 a.model_agree_ratio * body_.model().stature_mm();
   if (tracked_ok && agree && score_ >= a.model_fraction * median_score_)
-    body_.add(r->length_ratio, r->radius_mm);
+    body_.add(r->lengths, r->radius_mm);
 
   // A re-acquisition that moves the pose as far as paper 6's jump threshold starts the filter
   // afresh (smoothing across it would drag the old pose along); a smaller one is smoothed.
@@ -112,6 +115,11 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   out_.joints_mm = r->joints;
   if (jumped) filter_.reset();
   filter_.apply(out_.joints_mm, a.frame_s);
+  // The filter smooths every joint on its own, which changes bone lengths by up to ~1 %: the
+  // published pose keeps the filtered directions and gets the model's lengths back, so every
+  // frame of a held model has exactly its lengths.
+  impose_bone_lengths(out_.joints_mm, body_.model().length_mm);
+  out_.model_version = body_.version();
   last_output_ = out_.joints_mm;
   has_output_ = true;
   out_.confidence = r->confidence;

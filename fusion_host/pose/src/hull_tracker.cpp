@@ -1,3 +1,10 @@
+// GCC 12 with -march=native reports false "uninitialized" warnings inside Eigen's AVX-512
+// dense kernels (the length evidence's 24x24 products and LDLT); not ours to fix (as in
+// tools/calibrate/src/bundle_adjust.cpp).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
 #include "hullpose/pose/hull_tracker.hpp"
 
 #include <algorithm>
@@ -95,6 +102,17 @@ HullTracker::HullTracker(TrackParams params) : params_(params) {
   // Tips heavier, as in the bottom-up fit: bone corrections move inner joints.
   for (Joint j : {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe, Joint::RToe})
     shake_.set_mass(j, 4);
+  // kBones lists parents first: a bone's chain is its parent bone's plus itself.
+  for (int b = 0; b < kNumBones; ++b) {
+    chain_[b].fill(-1);
+    int len = 0;
+    for (int a = 0; a < b; ++a)
+      if (kBones[a].child == kBones[b].parent) {
+        chain_[b] = chain_[a];
+        while (len < kNumBones && chain_[b][len] >= 0) ++len;
+      }
+    chain_[b][len] = static_cast<int8_t>(b);
+  }
 }
 
 void HullTracker::start(const JointPositions& pose) {
@@ -211,8 +229,6 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
   radial_sum_.fill(0);
   radial_n_.fill(0);
   bone_points_.fill(0);
-  support_.fill(0);
-  for (auto& p : pull_) p.setZero();
   const double explained_mm = params_.explained_voxels * surface.voxel_mm() + params_.sigma_mm;
   const double gate = params_.gate_ratio * model.stature_mm();
   int explained = 0;
@@ -225,15 +241,7 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
       ++bone_points_[h.bone];
     }
     if (std::abs(h.distance) > gate) continue;
-    const Eigen::Vector3d radial = (p - h.axis_point).cast<double>();
-    const double rn = radial.norm();
-    if (rn < 1e-3) continue;
-    const int pj = index(kBones[h.bone].parent), cj = index(kBones[h.bone].child);
-    const Eigen::Vector3d e = radial * (h.distance / rn);
-    pull_[pj] += (1 - h.t) * e;
-    pull_[cj] += h.t * e;
-    support_[pj] += 1 - h.t;
-    support_[cj] += h.t;
+    const double rn = (p - h.axis_point).norm();
     // Radii from the middle of the bone (near joints the neighbours' capsules compete).
     if (h.t > 0.25 && h.t < 0.75 && !is_terminal(h.bone)) {
       radial_sum_[h.bone] += rn + 0.5 * surface.voxel_mm();
@@ -244,18 +252,8 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
       points.empty() ? 0 : static_cast<double>(explained) / static_cast<double>(points.size());
   result_.score.inside = inside_fraction(surface, x);
 
-  // Bone lengths the hull shows: the distance between the bone's joints' targets (joint + mean
-  // pull of the points around it) relative to the model. Points beside a bone pull across it and
-  // say little; a bend (the elbow between two arm capsules) and a tip's cap say how long it is.
-  for (int b = 0; b < kNumBones; ++b) {
-    const int pj = index(kBones[b].parent), cj = index(kBones[b].child);
-    result_.length_ratio[b] = kNaN;
-    if (support_[pj] < params_.full_support_points || support_[cj] < params_.full_support_points)
-      continue;
-    result_.length_ratio[b] =
-        ((x[pj] + pull_[pj] / support_[pj]) - (x[cj] + pull_[cj] / support_[cj])).norm() /
-        model.length_mm[b];
-  }
+  result_.lengths.measured = false;
+  if (measure_lengths_ && !points.empty()) measure_lengths(surface, model);
   for (int b = 0; b < kNumBones; ++b)
     result_.radius_mm[b] =
         radial_n_[b] >= params_.full_support_points ? radial_sum_[b] / radial_n_[b] : kNaN;
@@ -281,6 +279,60 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
   for (int j = 0; j < kNumJoints; ++j)
     result_.confidence[j] =
         static_cast<float>(frame * (conf_n[j] > 0 ? conf_sum[j] / conf_n[j] : 0));
+}
+
+void HullTracker::measure_lengths(const HullSurface& surface, const BodyModel& model) {
+  // Unknowns: the 24 lengths, then the pose's translation (3), eliminated at the end.
+  constexpr int kN = kNumBones + 3;
+  Eigen::Matrix<double, kN, kN> h = Eigen::Matrix<double, kN, kN>::Zero();
+  Eigen::Matrix<double, kN, 1> g = Eigen::Matrix<double, kN, 1>::Zero();
+  const JointPositions& x = result_.joints;
+  std::array<Eigen::Vector3d, kNumBones> dir;
+  for (int b = 0; b < kNumBones; ++b) {
+    const Eigen::Vector3d d = x[index(kBones[b].child)] - x[index(kBones[b].parent)];
+    dir[b] = d.norm() > 1e-9 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+  }
+  const double sigma = params_.sigma_voxels * surface.voxel_mm() + params_.sigma_mm;
+  const double gate = params_.gate_ratio * model.stature_mm();
+  std::array<int, kN> idx;
+  std::array<double, kN> jac;
+  for (const Eigen::Vector3f& p : surface.points()) {
+    const Hit hit = nearest(p);
+    if (hit.bone < 0 || std::abs(hit.distance) > gate) continue;
+    const Eigen::Vector3d radial = (p - hit.axis_point).cast<double>();
+    const double rn = radial.norm();
+    if (rn < 1e-3) continue;
+    const Eigen::Vector3d n = radial / rn;
+    // A longer ancestor moves the whole capsule along itself; the bone itself moves its axis
+    // point by t (its cap by 1) along itself. The distance changes by -n . motion.
+    int k = 0;
+    for (int8_t c : chain_[hit.bone]) {
+      if (c < 0) break;
+      idx[k] = c;
+      jac[k++] = -n.dot(dir[c]) * (c == hit.bone ? hit.t : 1.0);
+    }
+    for (int a = 0; a < 3; ++a) {
+      idx[k] = kNumBones + a;
+      jac[k++] = -n[a];
+    }
+    const double r = hit.distance, w = 1.0 / (1.0 + (r / sigma) * (r / sigma));
+    for (int i = 0; i < k; ++i) {
+      g(idx[i]) += w * r * jac[i];
+      for (int j = 0; j < k; ++j) h(idx[i], idx[j]) += w * jac[i] * jac[j];
+    }
+  }
+  // Eliminate the translation (Schur complement): the evidence on the lengths alone, whatever
+  // the pose's position.
+  const Eigen::Matrix3d htt =
+      h.block<3, 3>(kNumBones, kNumBones) + 1e-6 * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix<double, kNumBones, 3> k_lt =
+      h.block<kNumBones, 3>(0, kNumBones) * htt.inverse();
+  LengthEvidence& e = result_.lengths;
+  e.hessian =
+      h.block<kNumBones, kNumBones>(0, 0) - k_lt * h.block<kNumBones, 3>(0, kNumBones).transpose();
+  e.gradient = g.head<kNumBones>() - k_lt * g.tail<3>();
+  e.at_mm = model.length_mm;
+  e.measured = true;
 }
 
 double HullTracker::inside_fraction(const HullSurface& surface, const JointPositions& pose) {

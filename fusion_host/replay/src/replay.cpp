@@ -80,6 +80,7 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     record.frame = f;
     record.valid = outcome.valid;
     record.reason = outcome.reason;
+    record.model_version = pose.model_version;
     record.joints = pose.joints_mm;
     writer.write(record);
 
@@ -135,8 +136,10 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "estimates\n"
       "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
       "constraint\n"
-      "(fusion_host/pose/README.md compares them); --pose track (default) tracks the subject's body\n"
-      "model on the hull with the per-frame bottom-up path for acquisition and recovery, bottom-up\n"
+      "(fusion_host/pose/README.md compares them); --pose track (default) tracks the subject's "
+      "body\n"
+      "model on the hull with the per-frame bottom-up path for acquisition and recovery, "
+      "bottom-up\n"
       "is that path alone.\n");
   line.option("--replay", dataset)
       .option("--out", out)

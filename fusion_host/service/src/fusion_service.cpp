@@ -34,6 +34,7 @@ FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FrameP
   skeleton_.joint_name.assign(kJointNames.begin(), kJointNames.end());
   skeleton_.position.assign(kNumJoints, std::vector<float>(3, 0.f));
   skeleton_.confidence.assign(kNumJoints, 0.f);
+  skeleton_.model_version = 0;
   buffer_.resize(static_cast<size_t>(skeleton_.getEncodedSize()) +
                  1024);         // no allocation per frame
   constexpr int kQueue = 1000;  // a burst of a whole rig's silhouettes while a frame is fused
@@ -96,6 +97,7 @@ void FusionService::on_frame(const AssembledFrame& f) {
   }
   skeleton_.valid = estimate_.valid;
   skeleton_.reason = estimate_.reason;
+  skeleton_.model_version = estimate_.model_version;
   for (int j = 0; j < kNumJoints; ++j) {
     const auto ju = static_cast<size_t>(j);
     std::copy(estimate_.position_mm[ju].begin(), estimate_.position_mm[ju].end(),

@@ -20,6 +20,7 @@ void HullPipeline::process(const AssembledFrame& frame, PoseEstimate& out) {
     out.hull_grid = &r.hull->grid;
   }
   if (!r.pose->has_pose) return;  // nothing to show yet: zeros, confidence 0
+  out.model_version = r.pose->model_version;
   for (size_t j = 0; j < r.pose->joints_mm.size(); ++j) {
     const Eigen::Vector3d& p = r.pose->joints_mm[j];
     out.position_mm[j] = {static_cast<float>(p.x()), static_cast<float>(p.y()),

@@ -99,6 +99,7 @@ void write_jsonl(std::ostream& out, const hullpose_msg::skeleton_t& s) {
                {"utime", s.utime},
                {"valid", s.valid},
                {"reason", s.reason},
+               {"model_version", s.model_version},
                {"cameras", s.num_cameras_used},
                {"latency_us",
                 {{"capture", s.capture_us},
@@ -111,13 +112,14 @@ void write_jsonl(std::ostream& out, const hullpose_msg::skeleton_t& s) {
 }
 
 void write_estimate_header(std::ostream& out) {
-  out << "frame,valid,reason";
+  out << "frame,valid,reason,model";
   for (auto name : kJointNames) out << ',' << name << "_x," << name << "_y," << name << "_z";
   out << '\n';
 }
 
 void write_estimate(std::ostream& out, const hullpose_msg::skeleton_t& s, int64_t frame_offset) {
-  out << s.trigger_seq - frame_offset << ',' << int{s.valid} << ',' << int{s.reason};
+  out << s.trigger_seq - frame_offset << ',' << int{s.valid} << ',' << int{s.reason} << ','
+      << s.model_version;
   for (int j = 0; j < kNumJoints; ++j)
     for (int k = 0; k < 3; ++k)
       out << ','

@@ -17,22 +17,23 @@ using JointPositions = std::array<Eigen::Vector3d, kNumJoints>;  // mm, rig fram
 
 struct DatasetMeta {
   static constexpr int kFormat = 1;
-  std::string motion;        // built-in motion name or BVH file name
+  std::string motion;  // built-in motion name or BVH file name
   int frames = 0;
   double fps = 30;
   uint64_t seed = 0;
-  int64_t start_utime = 0;   // trigger time of frame 0
-  double stature_mm = 0;     // ground-truth stature of the subject
+  int64_t start_utime = 0;  // trigger time of frame 0
+  double stature_mm = 0;    // ground-truth stature of the subject
   std::vector<int> camera_ids;
-  std::string noise;         // free-form description of injected faults ("" = none)
+  std::string noise;  // free-form description of injected faults ("" = none)
 };
 
 // One frame of ground truth or of an estimate.
 struct PoseRecord {
   int frame = 0;
-  int64_t utime = 0;  // ground truth only
-  bool valid = true;  // estimates only
-  int reason = 0;     // estimates only: skeleton_t REASON_*
+  int64_t utime = 0;      // ground truth only
+  bool valid = true;      // estimates only
+  int reason = 0;         // estimates only: skeleton_t REASON_*
+  int model_version = 0;  // estimates only: skeleton_t model_version (0 in files without it)
   JointPositions joints{};
 };
 

@@ -43,8 +43,11 @@ struct ArbiterParams {
   double min_score = 0.5;
   // Body-model measurements come from frames scoring at least this fraction of the median whose
   // bottom-up pose lies within model_agree_ratio statures of the tracked one (mean joint
-  // distance; the two differ by ~30 mm on a good frame from the proportions alone).
-  double model_fraction = 1.0;
+  // distance; the two differ by ~30 mm on a good frame from the proportions alone). 0.85 = a
+  // valid frame's floor (valid_fraction): the length evidence is robust-weighted and carries its
+  // own information, so every frame good enough to publish may add to it (1.0, the median,
+  // kept half of them and held the model only after 3.5-7 s on 55_01, 01_01 and 131_02).
+  double model_fraction = 0.85;
   double model_agree_ratio = 0.04;
   double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
 };

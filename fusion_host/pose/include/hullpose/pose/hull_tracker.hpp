@@ -100,8 +100,10 @@ struct TrackResult {
   JointPositions joints{};
   std::array<float, kNumJoints> confidence{};
   HullScore score;
-  // Measurements for the body model (NaN where not measured this frame).
-  std::array<double, kNumBones> length_ratio{};
+  // Measurements for the body model: the lengths' Gauss-Newton evidence (when asked for, see
+  // HullTracker::set_measure_lengths) and each bone's mean surface distance (NaN where not
+  // measured this frame).
+  LengthEvidence lengths;
   std::array<double, kNumBones> radius_mm{};
 };
 
@@ -118,6 +120,9 @@ class HullTracker {
   };
   // One frame: predict, fit to `surface`, score. Keeps the result as the new state.
   const TrackResult& track(const HullSurface& surface, const BodyModel& model, Detected detected);
+  // Whether track() also computes the length evidence (the body model needs it only until it
+  // is held; it costs ~100 multiply-adds per surface point).
+  void set_measure_lengths(bool on) { measure_lengths_ = on; }
   // Scores any pose against the surface with this tracker's capsules (no state change).
   HullScore score(const HullSurface& surface, const BodyModel& model,
                   const JointPositions& pose) const;
@@ -137,9 +142,11 @@ class HullTracker {
   static double inside_fraction(const HullSurface& surface, const JointPositions& pose);
   Hit nearest(const Eigen::Vector3f& p) const;
 
+  void measure_lengths(const HullSurface& surface, const BodyModel& model);
+
   TrackParams params_;
   Shake shake_;
-  bool active_ = false;
+  bool active_ = false, measure_lengths_ = false;
   JointPositions previous_{}, before_previous_{};
   bool has_velocity_ = false;
   TrackResult result_;
@@ -152,6 +159,8 @@ class HullTracker {
   std::array<double, kNumJoints> support_{};
   std::array<Eigen::Vector3d, kNumJoints> pull_{};
   std::array<int, kNumBones> bone_points_{};
+  // Bones from the root (Chest) down to each bone, itself last (-1 ends a chain).
+  std::array<std::array<int8_t, kNumBones>, kNumBones> chain_{};
   std::array<double, kNumBones> radial_sum_{};
   std::array<int, kNumBones> radial_n_{};
 };

@@ -37,16 +37,19 @@ struct PoseParams {
 };
 
 struct PoseEstimate {
-  bool valid = false;       // a fresh estimate of this frame
-  int8_t reason = 0;        // hullpose_msg::skeleton_t::REASON_*
-  const char* detail = "";  // static text behind the reason
-  JointPositions joints_mm{};               // common/joints.hpp order; the reused pose if !valid
+  bool valid = false;                          // a fresh estimate of this frame
+  int8_t reason = 0;                           // hullpose_msg::skeleton_t::REASON_*
+  const char* detail = "";                     // static text behind the reason
+  JointPositions joints_mm{};                  // common/joints.hpp order; the reused pose if !valid
   std::array<float, kNumJoints> confidence{};  // 0 when no pose exists at all
-  bool has_pose = false;                    // false until the first fresh pose
-  double stature_mm = 0;                    // running estimate
-  double frame_stature_mm = 0;              // this frame's own estimate (0 without a valid tree)
+  bool has_pose = false;                       // false until the first fresh pose
+  double stature_mm = 0;                       // running estimate
+  // skeleton_t::model_version: 0 = provisional (bone lengths may change from frame to frame),
+  // n >= 1 = the joints have exactly the n-th held body model's bone lengths.
+  int32_t model_version = 0;
+  double frame_stature_mm = 0;  // this frame's own estimate (0 without a valid tree)
   int shake_iterations = 0;
-  int64_t tree_us = 0, fit_us = 0;          // stage timings
+  int64_t tree_us = 0, fit_us = 0;  // stage timings
 };
 
 class PoseEstimator {
@@ -54,7 +57,8 @@ class PoseEstimator {
   static constexpr int kStatureWindow = 64;
 
   explicit PoseEstimator(PoseParams params = {});
-  const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid);
+  const PoseEstimate& estimate(std::span<const Eigen::Vector3i> skeleton,
+                               const VoxelGridSpec& grid);
   const PoseEstimate& last() const { return out_; }
   const LabelledTree& tree() const { return builder_.tree(); }
   // Valid frames in the running stature (it is settled from params.stature_settle_frames on).
@@ -69,9 +73,9 @@ class PoseEstimator {
   ModelFitter fitter_;
   PoseEstimate out_;
   TemporalHint hint_;
-  JointPositions accepted_{};   // last fresh pose
+  JointPositions accepted_{};  // last fresh pose
   std::array<float, kNumJoints> accepted_confidence_{};
-  JointPositions pending_{};    // a rejected jump, kept to confirm against the next frame
+  JointPositions pending_{};  // a rejected jump, kept to confirm against the next frame
   bool has_accepted_ = false, has_pending_ = false;
   int frames_since_accepted_ = 0;
   RunningMedian<kStatureWindow> stature_;

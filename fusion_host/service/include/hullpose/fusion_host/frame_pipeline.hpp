@@ -19,6 +19,7 @@ struct PoseEstimate {
   int8_t reason = 0;  // skeleton_t::REASON_*
   std::array<std::array<float, 3>, kNumJoints> position_mm{};
   std::array<float, kNumJoints> confidence{};
+  int32_t model_version = 0;  // skeleton_t::model_version
   // When carving + thinning finished, microseconds after process() began; -1: not reached.
   int64_t fused_after_us = -1;
   // The carved hull of this frame (after clean-up) and its grid, when the pipeline has one; they
