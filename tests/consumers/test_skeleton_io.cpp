@@ -344,3 +344,35 @@ TEST_CASE("subscription: hulls checked field by field; hostile ones counted, nev
   CHECK(sub.counters().get("foreign_rig") == 1);
   CHECK(sub.counters().get("malformed_hull") == 1);
 }
+
+TEST_CASE("BVH: with a held body model, the hierarchy has the newest model's lengths exactly") {
+  const auto m = synth::make_builtin_motion("walk", {});
+  // 9 provisional frames whose bones are 3 % long, then 3 of held model 1 and 2 of model 2
+  // (5 % short): the median of all would be provisional; the hierarchy must be model 2's.
+  std::vector<SkeletonFrame> frames(14);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    m->sample(static_cast<double>(f) / 30.0, frames[f].joints);
+    frames[f].valid = true;
+    frames[f].model_version = f < 9 ? 0 : f < 12 ? 1 : 2;
+    const double scale = f < 9 ? 1.03 : f < 12 ? 1.0 : 0.95;
+    const Eigen::Vector3d root = frames[f].joints[static_cast<size_t>(index(Joint::Chest))];
+    for (auto& j : frames[f].joints) j = root + scale * (j - root);
+  }
+  frames[13].valid = false;  // an invalid frame of model 2 does not count
+  CHECK(held_model_version(frames) == 2);
+  const BoneLengths lengths = subject_bone_lengths(frames);
+  const BoneLengths truth = bone_lengths(frames[12].joints);
+  for (size_t b = 0; b < lengths.size(); ++b) CHECK(lengths[b] == Approx(truth[b]).epsilon(1e-12));
+  for (auto& f : frames) f.model_version = 0;
+  CHECK(held_model_version(frames) == 0);
+  CHECK(subject_bone_lengths(frames)[5] == Approx(bone_lengths(frames[4].joints)[5]).epsilon(0.02));
+  // model_version travels over the wire; a negative one is refused.
+  hullpose_msg::skeleton_t msg;
+  frames[12].model_version = 2;
+  to_message(frames[12], "rigA", msg);
+  SkeletonFrame back;
+  REQUIRE(from_message(msg, back));
+  CHECK(back.model_version == 2);
+  msg.model_version = -1;
+  CHECK_FALSE(from_message(msg, back));
+}
