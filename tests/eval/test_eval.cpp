@@ -412,7 +412,7 @@ TEST_CASE("bad input gets a clear error naming the file") {
                                         << first.substr(0, 40) << '\n';
   }
   expect({"--gt", ds.string(), "--est", (dir.path / "cut.csv").string()},
-         "cut.csv:3: expected 78 fields");
+         "cut.csv:3: expected 79 fields");
 
   // Meta and ground truth disagree.
   auto meta = walking_meta(21, kStature);
