@@ -99,4 +99,14 @@ bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::node_status
   return c.done();
 }
 
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::hull_t*) {
+  Cursor c(bytes);
+  c.skip(8 + 8);
+  c.string();                         // rig_id
+  c.skip(8 + 3 * 4 + 3 * 4 + 4 + 4);  // trigger_seq, nx ny nz, origin_mm, voxel_mm, carved_voxel_mm
+  c.skip(4 + 1);                      // num_occupied, encoding
+  c.skip(static_cast<size_t>(c.count(kMaxPayload)));
+  return c.done();
+}
+
 }  // namespace hullpose::wire

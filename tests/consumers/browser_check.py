@@ -1,14 +1,18 @@
 #!/usr/bin/python3
 """Loads hullpose-web's page in headless Chromium and checks that the skeleton is drawn.
 
-usage: browser_check.py URL SCREENSHOT.png [--min-skeletons N] [--timeout-s S]
+usage: browser_check.py URL SCREENSHOT.png [--min-skeletons N] [--timeout-s S] [--hull | --no-hull]
 
 Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: JSON messages
 ending in NUL on file descriptors 3 and 4), so nothing but the Python standard library and PIL
 is needed. Steps: open the page; wait until window.hullpose has counted N skeletons (page state);
 pause the view, wait for a drawn frame, read the projected joints and bone midpoints; take a
 screenshot; then every long bone's midpoint must show the bone colour and every joint must be
-drawn (not background). Prints a JSON summary; exits 1 on failure.
+drawn (not background). --hull (the fusion host sends HULL): first wait for 2 hulls, and with
+the hull shown, most sampled voxel centres of the drawn hull must show the hull's colour (lit: a
+shade of it) in a screenshot of their own (SCREENSHOT-hull.png); then hide it with the page's
+toggle and check the skeleton as above. --no-hull: the page must have received no hull at all.
+Prints a JSON summary; exits 1 on failure.
 """
 import base64, fcntl, io, json, os, shutil, subprocess, sys, tempfile, time
 
@@ -86,6 +90,8 @@ def main():
     url, shot = sys.argv[1], sys.argv[2]
     min_skeletons = int(sys.argv[sys.argv.index("--min-skeletons") + 1]) if "--min-skeletons" in sys.argv else 10
     timeout = float(sys.argv[sys.argv.index("--timeout-s") + 1]) if "--timeout-s" in sys.argv else 60
+    want_hull, no_hull = "--hull" in sys.argv, "--no-hull" in sys.argv
+    hull_png, hull_proj = None, None
     profile = tempfile.mkdtemp(prefix="hullpose-chromium.")
     b = Browser(profile)
     try:
@@ -99,12 +105,21 @@ def main():
         while time.monotonic() < deadline:
             state = b.evaluate("window.hullpose ? {skeletons: hullpose.skeletons, valid: hullpose.valid, invalid: hullpose.invalid,"
                                " statuses: hullpose.statuses, cameras: document.querySelectorAll('#cameras tbody tr').length,"
-                               " rig: !!hullpose.rig} : null")
-            if state and state["skeletons"] >= min_skeletons and state["valid"] > 0:
+                               " rig: !!hullpose.rig, hulls: hullpose.hulls} : null")
+            if state and state["skeletons"] >= min_skeletons and state["valid"] > 0 and (not want_hull or state["hulls"] >= 2):
                 break
             time.sleep(0.1)
         if not state or state["skeletons"] < min_skeletons:
             sys.exit(f"FAIL: the page counted {state and state['skeletons']} skeletons, expected >= {min_skeletons}")
+        if want_hull:
+            # The hull shown, the view frozen: where its voxels are on screen, and how they look.
+            hull_proj = b.evaluate("""(async () => {
+                hullpose.setHull(true); hullpose.pause(); await hullpose.rendered();
+                return {points: hullpose.projectedHull(200), colour: hullpose.hullColour, shown: hullpose.hullShown.occupied,
+                        panel: document.getElementById('panel').getBoundingClientRect().toJSON()};
+            })()""")
+            hull_png = base64.b64decode(b.send("Page.captureScreenshot", {"format": "png"})["data"])
+            b.evaluate("(async () => { hullpose.setHull(false); hullpose.resume(); await hullpose.rendered(); })()")
         # Freeze the view on a valid pose, then read where its joints are on screen.
         proj = b.evaluate("""(async () => {
             for (let i = 0; i < 200 && !(hullpose.shown && hullpose.shown.valid); ++i) await hullpose.rendered();
@@ -118,6 +133,32 @@ def main():
         b.close()
     with open(shot, "wb") as f:
         f.write(png)
+    hull_summary, problems = {}, []
+    if want_hull:
+        hull_shot = shot[:-4] + "-hull.png" if shot.endswith(".png") else shot + "-hull.png"
+        with open(hull_shot, "wb") as f:
+            f.write(hull_png)
+        himg = Image.open(io.BytesIO(hull_png)).convert("RGB")
+        hc = hull_proj["colour"]
+        ref = ((hc >> 16) & 255, (hc >> 8) & 255, hc & 255)
+        p = hull_proj["panel"]
+
+        def is_hull(c):  # the hull's colour times a shade in (0, 1]: same ratios, not dark
+            return c[2] >= 40 and abs(c[0] / c[2] - ref[0] / ref[2]) < 0.08 and abs(c[1] / c[2] - ref[1] / ref[2]) < 0.08
+
+        seen = [q for q in hull_proj["points"] if 0 <= q["x"] < himg.size[0] and 0 <= q["y"] < himg.size[1]
+                and not (p["left"] <= q["x"] <= p["right"] and p["top"] <= q["y"] <= p["bottom"])]
+        hits = [q for q in seen if is_hull(himg.getpixel((int(q["x"]), int(q["y"]))))]
+        hull_summary = {"hulls": state["hulls"], "hull_voxels": hull_proj["shown"], "hull_points": len(seen),
+                        "hull_drawn": len(hits), "hull_screenshot": hull_shot}
+        if len(seen) < 20:
+            problems.append(f"only {len(seen)} hull voxels project into the view")
+        if len(hits) < 0.9 * len(seen):
+            problems.append(f"hull colour at {len(hits)} of {len(seen)} hull voxel centres")
+        if is_hull(himg.getpixel((himg.size[0] - 3, himg.size[1] - 3))):
+            problems.append("the screen corner has the hull colour: the check cannot tell")
+    if no_hull and state["hulls"] != 0:
+        problems.append(f"the page received {state['hulls']} hulls with the hull channel off")
     img = Image.open(io.BytesIO(png)).convert("RGB")
     w, h = img.size
     colour = ((proj["colour"] >> 16) & 255, (proj["colour"] >> 8) & 255, proj["colour"] & 255)
@@ -140,10 +181,9 @@ def main():
     corner_is_bone = near(img.getpixel((w - 3, h - 3)), colour)
     summary = {"state": state, "banner": proj["banner"], "latency": proj["latency"], "panel_rows": state["cameras"],
                "long_bones": len(long_bones), "bones_on_screen": len(on_screen), "bones_drawn": len(bone_hits),
-               "joints_drawn": len(joint_hits), "screenshot": shot, "size": [w, h]}
+               "joints_drawn": len(joint_hits), "screenshot": shot, "size": [w, h], **hull_summary}
     print(json.dumps(summary))
     shutil.rmtree(profile, ignore_errors=True)
-    problems = []
     if len(on_screen) < 8:
         problems.append(f"only {len(on_screen)} long bones project into the view")
     if len(bone_hits) < 0.9 * len(on_screen):

@@ -304,3 +304,75 @@ TEST_CASE("subscription: skeletons and statuses from the bus; malformed and fore
   CHECK(sub.counters().get("malformed_status") == 1);
   CHECK(sub.counters().get("foreign_rig") == 1);
 }
+
+TEST_CASE("subscription: hulls checked field by field; hostile ones counted, never drawn") {
+  const auto bus = bus::open_bus("memq://");
+  std::vector<int64_t> drawn;
+  SubscriptionOptions o;
+  o.rig_id = "rigA";
+  Subscription sub(
+      *bus, o, [](const SkeletonFrame&, int64_t) {}, {},
+      [&](const msg::CoarseHull& h) { drawn.push_back(h.trigger_seq); });
+  msg::CoarseHull h;
+  h.dims = {4, 3, 2};
+  h.origin_mm = {-100, -100, 0};
+  h.voxel_mm = 100;
+  h.carved_voxel_mm = 25;
+  h.occupancy = cv::Mat::zeros(6, 4, CV_8UC1);
+  h.occupancy.at<uint8_t>(1 + 3 * 1, 2) = 255;  // voxel (2, 1, 1)
+  h.num_occupied = 1;
+  h.trigger_seq = 5;
+  SilhouetteEncoder enc;
+  hullpose_msg::hull_t m;
+  msg::to_message(h, "rigA", enc, m);
+  wire::publish(*bus, "HULL", m);
+  auto bad = m;
+  bad.nx = 65;
+  wire::publish(*bus, "HULL", bad);
+  bad = m;
+  bad.num_occupied = 2;
+  wire::publish(*bus, "HULL", bad);
+  bad = m;
+  bad.rig_id = "rigB";
+  wire::publish(*bus, "HULL", bad);
+  const std::vector<uint8_t> garbage = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  bus->publish("HULL", garbage);
+  sub.poll(0);
+  CHECK(drawn == std::vector<int64_t>{5});
+  CHECK(sub.counters().get("invalid_hull_bad_dims") == 1);
+  CHECK(sub.counters().get("invalid_hull_bad_count") == 1);
+  CHECK(sub.counters().get("foreign_rig") == 1);
+  CHECK(sub.counters().get("malformed_hull") == 1);
+}
+
+TEST_CASE("BVH: with a held body model, the hierarchy has the newest model's lengths exactly") {
+  const auto m = synth::make_builtin_motion("walk", {});
+  // 9 provisional frames whose bones are 3 % long, then 3 of held model 1 and 2 of model 2
+  // (5 % short): the median of all would be provisional; the hierarchy must be model 2's.
+  std::vector<SkeletonFrame> frames(14);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    m->sample(static_cast<double>(f) / 30.0, frames[f].joints);
+    frames[f].valid = true;
+    frames[f].model_version = f < 9 ? 0 : f < 12 ? 1 : 2;
+    const double scale = f < 9 ? 1.03 : f < 12 ? 1.0 : 0.95;
+    const Eigen::Vector3d root = frames[f].joints[static_cast<size_t>(index(Joint::Chest))];
+    for (auto& j : frames[f].joints) j = root + scale * (j - root);
+  }
+  frames[13].valid = false;  // an invalid frame of model 2 does not count
+  CHECK(held_model_version(frames) == 2);
+  const BoneLengths lengths = subject_bone_lengths(frames);
+  const BoneLengths truth = bone_lengths(frames[12].joints);
+  for (size_t b = 0; b < lengths.size(); ++b) CHECK(lengths[b] == Approx(truth[b]).epsilon(1e-12));
+  for (auto& f : frames) f.model_version = 0;
+  CHECK(held_model_version(frames) == 0);
+  CHECK(subject_bone_lengths(frames)[5] == Approx(bone_lengths(frames[4].joints)[5]).epsilon(0.02));
+  // model_version travels over the wire; a negative one is refused.
+  hullpose_msg::skeleton_t msg;
+  frames[12].model_version = 2;
+  to_message(frames[12], "rigA", msg);
+  SkeletonFrame back;
+  REQUIRE(from_message(msg, back));
+  CHECK(back.model_version == 2);
+  msg.model_version = -1;
+  CHECK_FALSE(from_message(msg, back));
+}

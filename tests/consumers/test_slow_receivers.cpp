@@ -134,3 +134,28 @@ TEST_CASE("web: JSON of hostile status text does not throw") {
   const std::string j = web::status_json(s);
   CHECK(j.find("camera_node") != std::string::npos);
 }
+
+TEST_CASE("live BVH skeleton: fixed by the first valid frame, again by each newer held model") {
+  const auto m = synth::make_builtin_motion("walk", {});
+  skeleton_io::SkeletonFrame f;
+  m->sample(0, f.joints);
+  stream::LiveSkeleton s;
+  CHECK_FALSE(s.update(f));  // invalid: nothing fixed yet
+  f.valid = true;
+  REQUIRE(s.update(f));
+  CHECK(s.generation() == 1);
+  const auto provisional = skeleton_io::bone_lengths(f.joints);
+  for (auto& j : f.joints) j *= 0.9;  // the held model's shorter bones
+  f.model_version = 1;
+  s.update(f);
+  CHECK(s.generation() == 2);
+  const auto held = skeleton_io::bone_lengths(f.joints);
+  CHECK(held[5] == Approx(0.9 * provisional[5]));
+  for (auto& j : f.joints) j *= 1.1;  // the same model again: already fixed
+  s.update(f);
+  f.model_version = 0;
+  s.update(f);
+  CHECK(s.generation() == 2);
+  const auto& lsho = s.bvh().nodes()[static_cast<size_t>(s.bvh().find("LSho"))];
+  CHECK(lsho.offset.norm() * 10 == Approx(held[3]));
+}

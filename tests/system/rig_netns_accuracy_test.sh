@@ -3,7 +3,10 @@
 # cameras) goes through the distributed rig — trigger master, 8 camera nodes and the fusion host
 # (hullpose-fusion-host: carve -> thin -> tree -> fit) each in its own namespace, LCM multicast
 # across a bridge — and through `hullpose-fusion-host --replay` offline. Every trigger sequence
-# must come out as one skeleton, and hullpose-eval must score live and replay within 1 %.
+# must come out as one skeleton, and hullpose-eval must score live and replay within 1 %. The
+# live host also sends its carved hull on HULL at 2 Hz (--hull-rate; issue 16's view): recorded
+# by lcm-logger beside it, every hull must be a real coarse hull of its frame, about 2 a second,
+# and the skeletons must be none the worse for it.
 # The nodes are the real hullpose-camera-node replaying the rendered masks as simulated sensors on
 # the trigger wire (one frame per edge, the frame of that trigger's sequence), passed through
 # unchanged (threshold method, no clean-up), so live and replay see the same silhouettes and must
@@ -22,8 +25,10 @@ frames=${2:-300} rate=${3:-30} num=8
 "$root/tools/demo/node-configs.sh" "$work" "$num" "$work/data/rig.yaml" "$url" "$work/wire.sock" masks:mask
 seconds=$(( frames / rate + 60 ))
 spawn "$work/host.log" fusion "$build/fusion_host/app/hullpose-fusion-host" --rig "$work/data/rig.yaml" --lcm-url "$url" \
-  --min-cameras 6 --deadline-ms 500 --max-open 24 --duration-s "$seconds" --ready-file "$work/host.ready"
+  --min-cameras 6 --deadline-ms 500 --max-open 24 --duration-s "$seconds" --ready-file "$work/host.ready" --hull-rate 2
 host=$spawned
+spawn "$work/hull-logger.log" fusion lcm-logger --lcm-url="$url" -c HULL -f "$work/hull.lcmlog"
+hull_logger=$spawned
 spawn "$work/listen.log" fusion "$build/tools/listen/hullpose-listen" --lcm-url "$url" --format none --count "$frames" \
   --estimates "$work/live.csv" --summary "$work/summary.json" --duration-s "$seconds" --ready-file "$work/listen.ready"
 listener=$spawned
@@ -37,18 +42,34 @@ done
 wait "$master" || { echo "FAIL: trigger master"; cat "$work/master.log"; exit 1; }
 wait "$listener" || true
 kill "$host" 2>/dev/null || true; wait "$host" || true
+kill -INT "$hull_logger" 2>/dev/null || true; wait "$hull_logger" || true
 
 "$build/fusion_host/app/hullpose-fusion-host" --replay "$work/data" --out "$work/replay.csv" > /dev/null
 "$build/tools/eval/hullpose-eval" --gt "$work/data" --est "$work/live.csv" --json > "$work/live.json"
 "$build/tools/eval/hullpose-eval" --gt "$work/data" --est "$work/replay.csv" --json > "$work/replay.json"
 grep -v INFO "$work/host.log" | tail -n 2 || true
-/usr/bin/python3 - "$work" "$frames" <<'PY'
-import csv, json, sys
-work, frames = sys.argv[1], int(sys.argv[2])
+/usr/bin/python3 - "$work" "$frames" "$rate" <<'PY'
+import csv, json, struct, sys
+work, frames, rate = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 rows = list(csv.DictReader(open(f"{work}/live.csv")))
 seqs = [int(r["frame"]) for r in rows]
 fail = []
 if sorted(seqs) != list(range(frames)): fail.append(f"{len(set(seqs))} distinct sequences published, expected 0..{frames-1} once each")
+# HULL events (lcm-logger layout), each hull_t read up to its payload (hull_t.lcm).
+data, at, hulls = open(f"{work}/hull.lcmlog", "rb").read(), 0, []
+while at + 28 <= len(data):
+    _, _, _, clen, dlen = struct.unpack(">IqqII", data[at:at + 28])
+    m, p = data[at + 28 + clen:at + 28 + clen + dlen], 16
+    p += 4 + struct.unpack(">i", m[p:p + 4])[0]
+    seq, nx, ny, nz = struct.unpack(">qiii", m[p:p + 20])
+    voxel, carved, occupied = struct.unpack(">ffi", m[p + 32:p + 44])
+    hulls.append((seq, (nx, ny, nz), voxel / carved, occupied, dlen))
+    at += 28 + clen + dlen
+expected = 2 * frames / rate
+if len(hulls) < 0.8 * expected or len(hulls) > expected + 1: fail.append(f"{len(hulls)} hulls on HULL, expected about {expected:.0f}")
+if any(max(d) > 64 or o < 50 or f != 2 for _, d, f, o, _ in hulls): fail.append(f"a hull is not a coarse body: {hulls[:3]}")
+if any(b[0] - a[0] < rate // 2 - 1 for a, b in zip(hulls, hulls[1:])): fail.append("hulls come faster than 2 Hz")
+if hulls: print(f"rig_netns_accuracy_test: {len(hulls)} hulls, {hulls[0][1]} voxels, {min(h[3] for h in hulls)}..{max(h[3] for h in hulls)} occupied, {max(h[4] for h in hulls)} bytes at most")
 print(f"rig_netns_accuracy_test: {len(rows)} skeletons over {frames} triggers")
 if fail: print("FAIL: " + "; ".join(fail)); sys.exit(1)
 PY

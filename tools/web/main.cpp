@@ -1,5 +1,6 @@
-// hullpose-web: the live 3D view of the rig in a browser (SKELETON + STATUS over LCM), or the
-// playback of a recorded take (--play). Open the printed URL.
+// hullpose-web: the live 3D view of the rig in a browser (SKELETON + STATUS, and HULL when the
+// fusion host sends it, over LCM), or the playback of a recorded take (--play). Open the
+// printed URL.
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -85,13 +86,16 @@ int run(int argc, const char* const* argv) {
     const auto bus = hullpose::bus::open_bus(lcm_url, rig_key);
     sio::Subscription live(
         *bus, sub, [&](const sio::SkeletonFrame& f, int64_t) { server.publish_skeleton(f); },
-        [&](const hullpose_msg::node_status_t& s) { server.publish_status(s); });
+        [&](const hullpose_msg::node_status_t& s) { server.publish_status(s); },
+        [&](const hullpose::msg::CoarseHull& h) { server.publish_hull(h); });
     // LCM is read on the server's I/O thread: a pose reaches the browsers' sockets without a hop
     // between threads (make bench: tools/bench/peers/consumers_latency.sh).
     server.watch_readable(live.fd(), [&] { live.poll(0); });
     while (!hullpose::stop_requested() && hullpose::monotonic_us() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     server.stop();  // before `live` goes: its socket is watched on the server's thread
+    for (const auto& [name, value] : live.counters().snapshot())
+      std::fprintf(stderr, "hullpose-web: %s=%lld\n", name.c_str(), static_cast<long long>(value));
   }
   std::fprintf(stderr, "hullpose-web: %s\n", server.stats_json().c_str());
   return 0;

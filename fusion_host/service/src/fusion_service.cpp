@@ -48,6 +48,8 @@ FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FrameP
       bus_, config_.trigger_channel, trigger_, counters_, "malformed_trigger",
       [this](const hullpose_msg::trigger_t& t) { assembler_.on_trigger(t, clock_.monotonic_us()); },
       kQueue));
+  if (config_.hull.rate_hz > 0)
+    hull_ = std::make_unique<HullPublisher>(bus_, rig.rig_id, config_.hull, counters_);
   interval_start_us_ = clock_.monotonic_us();
   next_status_us_ = interval_start_us_;
 }
@@ -112,6 +114,9 @@ void FusionService::on_frame(const AssembledFrame& f) {
   if (!wire::publish(bus_, config_.skeleton_channel, skeleton_, buffer_))
     counters_.add("publish_error");
   ++published_;
+  // After the skeleton: the view's hull never delays the pose.
+  if (hull_ && estimate_.hull && estimate_.hull_grid)
+    hull_->offer(*estimate_.hull, *estimate_.hull_grid, f.utime, f.trigger_seq);
 }
 
 void FusionService::step(int timeout_ms) {
@@ -134,6 +139,7 @@ void FusionService::run(const std::function<bool()>& keep_going) {
 
 void FusionService::flush() {
   assembler_.flush();
+  if (hull_) hull_->drain();
   publish_status(clock_.monotonic_us());
 }
 

@@ -15,6 +15,10 @@ void HullPipeline::process(const AssembledFrame& frame, PoseEstimate& out) {
   out.fused_after_us = r.fused_after_us;
   out.valid = r.valid;
   out.reason = r.reason;
+  if (r.hull && r.hull->valid) {
+    out.hull = &r.hull->hull;
+    out.hull_grid = &r.hull->grid;
+  }
   if (!r.pose->has_pose) return;  // nothing to show yet: zeros, confidence 0
   out.model_version = r.pose->model_version;
   for (size_t j = 0; j < r.pose->joints_mm.size(); ++j) {

@@ -88,10 +88,19 @@ BoneLengths bone_lengths(const JointPositions& joints) {
   return out;
 }
 
+int32_t held_model_version(const std::vector<SkeletonFrame>& frames) {
+  int32_t newest = 0;
+  for (const SkeletonFrame& f : frames)
+    if (f.valid) newest = std::max(newest, f.model_version);
+  return newest;
+}
+
 BoneLengths subject_bone_lengths(const std::vector<SkeletonFrame>& frames) {
+  // The held model's frames agree to float rounding; their median also shrugs off a stray one.
+  const int32_t model = held_model_version(frames);
   std::array<std::vector<double>, kNumBones> samples;
   for (const SkeletonFrame& f : frames) {
-    if (!f.valid) continue;
+    if (!f.valid || (model > 0 && f.model_version != model)) continue;
     const BoneLengths l = bone_lengths(f.joints);
     for (size_t i = 0; i < kBones.size(); ++i) samples[i].push_back(l[i]);
   }

@@ -57,6 +57,15 @@ std::string export_take(const ExportOptions& o) {
                             {"max_fill_frames", max_fill},
                             {"inserted_sequences", take.inserted},
                             {"malformed_messages", take.malformed}};
+  // Which bone lengths the BVH hierarchy has: the held body model's, or (none held) the median.
+  const int32_t model = held_model_version(take.frames);
+  int64_t held = 0, provisional = 0;
+  for (const SkeletonFrame& f : take.frames)
+    if (f.valid) (f.model_version == model && model > 0 ? held : provisional) += 1;
+  summary["bvh_bone_lengths"] = model > 0 ? "held body model" : "median of the valid frames";
+  summary["held_model_version"] = model;
+  summary["held_model_frames"] = held;
+  summary["other_valid_frames"] = provisional;
   nlohmann::json ranges = nlohmann::json::array();
   for (const auto& [first, last] : gaps.missing_ranges) ranges.push_back({first, last});
   summary["missing_ranges"] = ranges;

@@ -107,6 +107,7 @@ Take read_csv(const std::filesystem::path& path, double fps) {
     f.valid = r.valid;
     f.reason = r.reason;
     f.joints = r.joints;
+    f.model_version = r.model_version;
     f.confidence.fill(r.valid ? 1.f : 0.f);  // an estimate file keeps no confidence
     take.frames.push_back(f);
     expect = r.frame + 1;
@@ -118,7 +119,7 @@ Take read_csv(const std::filesystem::path& path, double fps) {
 
 bool from_message(const hullpose_msg::skeleton_t& msg, SkeletonFrame& out) {
   if (msg.num_joints != kNumJoints || msg.position.size() != kNumJoints ||
-      msg.confidence.size() != kNumJoints)
+      msg.confidence.size() != kNumJoints || msg.model_version < 0)
     return false;
   for (const auto& p : msg.position)
     if (p.size() != 3 || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
@@ -135,6 +136,7 @@ bool from_message(const hullpose_msg::skeleton_t& msg, SkeletonFrame& out) {
   out.cameras_used_mask = msg.cameras_used_mask;
   out.num_cameras_used = msg.num_cameras_used;
   out.published_us = msg.published_us;
+  out.model_version = msg.model_version;
   return true;
 }
 
@@ -158,6 +160,7 @@ void to_message(const SkeletonFrame& f, const std::string& rig_id, hullpose_msg:
   m.num_cameras_used = f.num_cameras_used;
   m.capture_us = m.node_done_us = m.received_us = m.fused_us = 0;
   m.published_us = f.published_us;
+  m.model_version = f.model_version;
 }
 
 Take read_take(const std::filesystem::path& path, double fps, const std::string& channel) {

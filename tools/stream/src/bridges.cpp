@@ -20,7 +20,11 @@ std::pair<std::string, int> parse_endpoint(const std::string& what, const std::s
 }
 
 bool LiveSkeleton::update(const SkeletonFrame& f) {
-  if (!bvh_ && f.valid) bvh_.emplace(skeleton_io::bone_lengths(f.joints));
+  if (f.valid && (!bvh_ || f.model_version > model_)) {
+    bvh_.emplace(skeleton_io::bone_lengths(f.joints));
+    model_ = f.model_version;
+    ++generation_;
+  }
   return bvh_.has_value();
 }
 
@@ -55,9 +59,9 @@ void VmcOutput::send(const SkeletonFrame& f, const LiveSkeleton& skeleton, doubl
   lo_message_add_float(t, static_cast<float>(time_s));
   add("/VMC/Ext/T", t);
   if (tracking) {
-    if (map_for_ != &skeleton.bvh()) {
+    if (map_generation_ != skeleton.generation()) {
       map_.emplace(skeleton.bvh());
-      map_for_ = &skeleton.bvh();
+      map_generation_ = skeleton.generation();
     }
     map_->pose(f.joints, bones_);
     lo_message root = lo_message_new();
@@ -159,13 +163,16 @@ void BvhTcpServer::accept() {
 void BvhTcpServer::send(const SkeletonFrame& f, const LiveSkeleton& skeleton,
                         const std::vector<double>& channels) {
   if (!f.valid || !skeleton.ready()) return;
-  if (format_ == BvhLineFormat::Plain && !header_sent_) {
+  // A new skeleton (a held body model arrived): clients that connect from now on get its
+  // hierarchy; those here already keep theirs (a plain BVH stream has one) and the rotations.
+  if (format_ == BvhLineFormat::Plain && header_generation_ != skeleton.generation()) {
+    const bool first = header_generation_ == 0;
     std::ostringstream hierarchy;
     skeleton.bvh().write_header(hierarchy, 0, 0);
     auto h = std::make_shared<const std::string>(hierarchy.str());
     asio::post(io_, [this, h] { header_ = h; });  // for clients that connect later
-    fanout_.publish(h);                           // and for those here now
-    header_sent_ = true;
+    if (first) fanout_.publish(h);                // and for those here now
+    header_generation_ = skeleton.generation();
   }
   format_bvh_line(format_, channels, scratch_, line_);
   fanout_.publish(std::make_shared<const std::string>(line_));

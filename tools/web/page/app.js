@@ -2,11 +2,15 @@
 // capture volume, each camera as a small frustum where the rig file puts it, and the skeleton
 // (bones in one colour, joints coloured by confidence: red 0 .. green 1; an invalid frame is
 // drawn grey under a red banner). The panel lists each node's STATUS and the trigger ->
-// skeleton latency. window.hullpose exposes the page's state (tests read it).
+// skeleton latency. When the fusion host sends the coarse carved hull (HULL, --hull-rate), it is
+// drawn as shaded voxels in HULL_COLOUR, shown or hidden with the 'hull' toggle.
+// window.hullpose exposes the page's state (tests read it).
 'use strict';
 
 const BONE_COLOUR = 0xff9900;     // tests look for this colour at the bones' projected midpoints
 const INVALID_COLOUR = 0x777777;
+const HULL_COLOUR = 0x3fa7d6;     // lit: a pixel of the hull is this colour times its shade
+const MAX_HULL_VOXELS = 64 * 64 * 64;
 const JOINTS = ['HeadTop', 'Head', 'Neck', 'Chest', 'LSho', 'RSho', 'LElb', 'RElb', 'LHand', 'RHand', 'LFTip', 'RFTip',
   'UBack', 'Back', 'LBack', 'LHip', 'RHip', 'LKne', 'RKne', 'LAnk', 'RAnk', 'LFoot', 'RFoot', 'LToe', 'RToe'];
 const J = Object.fromEntries(JOINTS.map((n, i) => [n, i]));
@@ -18,13 +22,18 @@ const BONES = [['Chest', 'Neck'], ['Neck', 'Head'], ['Head', 'HeadTop'], ['Chest
 const REASONS = ['ok', 'too few cameras', 'empty hull', 'invalid tree', 'pose jump', 'fit failed'];
 
 const state = window.hullpose = {
-  skeletons: 0, valid: 0, invalid: 0, statuses: 0, paused: false, last: null, shown: null, latencies: [],
+  skeletons: 0, valid: 0, invalid: 0, statuses: 0, hulls: 0, hullShown: null, showHull: true,
+  paused: false, last: null, shown: null, latencies: [],
   pause() { this.paused = true; }, resume() { this.paused = false; },
   // Screen pixels (CSS px, origin top left) of every joint and bone midpoint of the shown pose.
   projected() { return projectShown(); },
   // Resolves after the next frame has been drawn.
   rendered() { return new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))); },
   boneColour: BONE_COLOUR,
+  hullColour: HULL_COLOUR,
+  setHull(on) { setHullVisible(on); },
+  // Screen pixels of up to n of the drawn hull's voxel centres, evenly spread.
+  projectedHull(n) { return projectHull(n); },
 };
 
 const view = document.getElementById('view');
@@ -90,6 +99,65 @@ const joints = JOINTS.map(() => {
   m.visible = false; scene.add(m); return m;
 });
 const Y = new THREE.Vector3(0, 1, 0);
+
+// The hull: one instanced unit box per surface voxel, lit so that its shape reads.
+scene.add(new THREE.AmbientLight(0xffffff, 0.55));
+const sun = new THREE.DirectionalLight(0xffffff, 0.45);
+sun.position.set(0.3, -0.5, 1);
+scene.add(sun);
+let hullMesh = null;
+const hullToggle = document.getElementById('hull');
+hullToggle.onchange = () => setHullVisible(hullToggle.checked);
+
+function setHullVisible(on) {
+  state.showHull = on;
+  hullToggle.checked = on;
+  if (hullMesh) hullMesh.visible = on;
+}
+
+function showHull(h) {
+  const count = Math.min(h.voxels.length / 3, MAX_HULL_VOXELS);
+  if (!hullMesh || hullMesh.userData.capacity < count) {
+    if (hullMesh) { scene.remove(hullMesh); hullMesh.geometry.dispose(); hullMesh.material.dispose(); }
+    const capacity = Math.max(count, 1024);
+    hullMesh = new THREE.InstancedMesh(new THREE.BoxBufferGeometry(1, 1, 1),
+      new THREE.MeshLambertMaterial({ color: HULL_COLOUR }), capacity);
+    hullMesh.userData.capacity = capacity;
+    scene.add(hullMesh);
+  }
+  const m = new THREE.Matrix4(), s = h.voxel_mm;
+  for (let i = 0; i < count; ++i) {
+    m.makeScale(s, s, s);
+    m.setPosition(h.origin[0] + (h.voxels[3 * i] + 0.5) * s, h.origin[1] + (h.voxels[3 * i + 1] + 0.5) * s,
+      h.origin[2] + (h.voxels[3 * i + 2] + 0.5) * s);
+    hullMesh.setMatrixAt(i, m);
+  }
+  hullMesh.count = count;
+  hullMesh.instanceMatrix.needsUpdate = true;
+  hullMesh.visible = state.showHull;
+  state.hullShown = { seq: h.seq, voxels: h.voxels.slice(0, 3 * count), origin: h.origin, voxel_mm: s, occupied: h.occupied };
+  document.getElementById('hullinfo').textContent = `seq ${h.seq}, ${h.occupied} voxels of ${s.toFixed(0)} mm`;
+}
+
+function onHull(h) {
+  state.hulls++;
+  hullToggle.disabled = false;
+  if (!state.paused) showHull(h);
+}
+
+function projectHull(n) {
+  const h = state.hullShown;
+  if (!h || !hullMesh || !hullMesh.visible) return [];
+  scene.updateMatrixWorld(true);
+  const w = renderer.domElement.clientWidth, ht = renderer.domElement.clientHeight;
+  const total = h.voxels.length / 3, step = Math.max(1, Math.floor(total / n)), out = [];
+  for (let i = 0; i < total && out.length < n; i += step) {
+    const q = new THREE.Vector3(h.origin[0] + (h.voxels[3 * i] + 0.5) * h.voxel_mm, h.origin[1] + (h.voxels[3 * i + 1] + 0.5) * h.voxel_mm,
+      h.origin[2] + (h.voxels[3 * i + 2] + 0.5) * h.voxel_mm).project(camera);
+    out.push({ x: (q.x + 1) / 2 * w, y: (1 - q.y) / 2 * ht });
+  }
+  return out;
+}
 
 function showSkeleton(s) {
   // An invalid frame's joints are not a fresh estimate: draw the last valid pose, grey.
@@ -178,7 +246,7 @@ function connect() {
   const ws = new WebSocket(`ws://${location.host}/ws`);
   ws.onmessage = (e) => {
     const m = JSON.parse(e.data);
-    if (m.type === 'skeleton') onSkeleton(m); else if (m.type === 'status') onStatus(m);
+    if (m.type === 'skeleton') onSkeleton(m); else if (m.type === 'status') onStatus(m); else if (m.type === 'hull') onHull(m);
   };
   ws.onclose = () => setTimeout(connect, 1000);  // the server restarted: reconnect
 }

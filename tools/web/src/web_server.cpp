@@ -90,6 +90,33 @@ std::string status_json(const hullpose_msg::node_status_t& s) {
       .dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
+std::string hull_json(const msg::CoarseHull& h) {
+  const auto [nx, ny, nz] = h.dims;
+  const auto at = [&](int x, int y, int z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz && h.occupied(x, y, z);
+  };
+  json voxels = json::array();
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        if (at(x, y, z) && !(at(x - 1, y, z) && at(x + 1, y, z) && at(x, y - 1, z) &&
+                             at(x, y + 1, z) && at(x, y, z - 1) && at(x, y, z + 1))) {
+          voxels.push_back(x);
+          voxels.push_back(y);
+          voxels.push_back(z);
+        }
+  return json{{"type", "hull"},
+              {"seq", h.trigger_seq},
+              {"utime", h.utime},
+              {"dims", {nx, ny, nz}},
+              {"origin", {h.origin_mm[0], h.origin_mm[1], h.origin_mm[2]}},
+              {"voxel_mm", h.voxel_mm},
+              {"carved_voxel_mm", h.carved_voxel_mm},
+              {"occupied", h.num_occupied},
+              {"voxels", voxels}}
+      .dump();
+}
+
 class WebServer::WsSession final : public skeleton_io::OutboundSession {
  public:
   WsSession(tcp::socket socket, WebServer& server)
@@ -256,11 +283,17 @@ void WebServer::publish_status(const hullpose_msg::node_status_t& s) {
   fanout_.publish(std::move(m));
 }
 
+void WebServer::publish_hull(const msg::CoarseHull& h) {
+  ++hulls_;
+  fanout_.publish(std::make_shared<const std::string>(hull_json(h)));
+}
+
 std::string WebServer::stats_json() const {
   const auto& s = fanout_.stats();
   return json{{"sessions", s.sessions.load()},   {"accepted", s.accepted.load()},
               {"published", s.published.load()}, {"sent", s.sent.load()},
-              {"dropped", s.dropped.load()},     {"closed", s.closed.load()}}
+              {"dropped", s.dropped.load()},     {"closed", s.closed.load()},
+              {"hulls", hulls_.load()}}
       .dump();
 }
 

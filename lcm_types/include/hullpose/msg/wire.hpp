@@ -14,6 +14,7 @@
 //   wire::publish(bus, "TRIGGER", t, scratch);
 #include <cstddef>
 #include <cstdint>
+#include <hullpose_msg/hull_t.hpp>
 #include <hullpose_msg/node_status_t.hpp>
 #include <hullpose_msg/silhouette_t.hpp>
 #include <hullpose_msg/skeleton_t.hpp>
@@ -37,6 +38,7 @@ bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::silhouette_
 bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::trigger_t*);
 bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::skeleton_t*);
 bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::node_status_t*);
+bool well_formed(std::span<const uint8_t> bytes, const hullpose_msg::hull_t*);
 
 // True and `out` filled if `bytes` is exactly one well-formed Msg; false (out unspecified) else.
 // Reuses out's strings and vectors: no allocation once they have their size.

@@ -8,6 +8,8 @@
 
 #include "hullpose/common/joints.hpp"
 #include "hullpose/common/rig.hpp"
+#include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/fusion/bit_grid.hpp"
 #include "hullpose/fusion_host/frame_assembler.hpp"
 
 namespace hullpose::fusion {
@@ -20,6 +22,10 @@ struct PoseEstimate {
   int32_t model_version = 0;  // skeleton_t::model_version
   // When carving + thinning finished, microseconds after process() began; -1: not reached.
   int64_t fused_after_us = -1;
+  // The carved hull of this frame (after clean-up) and its grid, when the pipeline has one; they
+  // live in the pipeline until its next process() (the HULL channel reads them).
+  const BitGrid* hull = nullptr;
+  const VoxelGridSpec* hull_grid = nullptr;
 };
 
 class FramePipeline {

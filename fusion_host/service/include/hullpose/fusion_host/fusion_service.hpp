@@ -2,7 +2,9 @@
 // The fusion host's live loop: SILHOUETTE and TRIGGER in (raw bytes, checked before decoding),
 // frames assembled per trigger sequence, the pipeline run on each frame with enough views,
 // SKELETON out for every closed frame (valid or with its reason) with the latency breakdown
-// trigger -> capture -> node done -> received -> fused -> published, and STATUS once a second.
+// trigger -> capture -> node done -> received -> fused -> published, STATUS once a second, and,
+// when asked, the coarse hull at a low rate on HULL (hull_publisher.hpp: its own thread, never
+// in the frame loop's way).
 // Single-threaded: one loop handles the bus and owns the assembler and the pipeline. The bus and
 // the clock are the process's (service_main opens them); tests pass "memq://" and a SimClock.
 #include <functional>
@@ -18,6 +20,7 @@
 #include "hullpose/common/counters.hpp"
 #include "hullpose/fusion_host/frame_assembler.hpp"
 #include "hullpose/fusion_host/frame_pipeline.hpp"
+#include "hullpose/fusion_host/hull_publisher.hpp"
 
 namespace hullpose::fusion {
 
@@ -28,6 +31,7 @@ struct ServiceConfig {
   std::string trigger_channel = "TRIGGER";
   std::string skeleton_channel = "SKELETON";
   std::string status_channel = "STATUS";
+  HullPublishOptions hull;  // the optional HULL channel (--hull-rate HZ; off by default)
 };
 
 class FusionService {
@@ -73,6 +77,8 @@ class FusionService {
   int64_t interval_frames_ = 0;
   int64_t interval_pipeline_us_ = 0;
   int64_t interval_start_us_ = 0;
+  // Last: its worker uses counters_ and the bus until it is joined.
+  std::unique_ptr<HullPublisher> hull_;  // set iff config.hull.rate_hz > 0
 };
 
 // Options of the pipeline on a fusion host's command line.
@@ -81,15 +87,15 @@ struct PipelineOptions {
       128;  // --resolution N: voxels along the capture volume's longest axis (as --replay)
   int tolerance = 0;             // --tolerance K: a voxel may be missed by K present cameras
   std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
-  std::string pose = "track";     // --pose bottom-up|track (fusion_host/pose checks it)
+  std::string pose = "track";    // --pose bottom-up|track (fusion_host/pose checks it)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
 // --deadline-ms MS, --deadline-from first|trigger, --max-open N, --max-clock-skew-ms MS,
-// --duration-s S, --ready-file FILE, and the PipelineOptions; --help prints the usage): builds the
-// pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the duration. Returns
-// the exit code; throws hullpose::Error on bad options or files (run it inside run_tool,
-// common/tool.hpp).
+// --duration-s S, --ready-file FILE, --hull-rate HZ, and the PipelineOptions; --help prints the
+// usage): builds the pipeline with `make_pipeline` and runs the service until SIGINT/SIGTERM or the
+// duration. Returns the exit code; throws hullpose::Error on bad options or files (run it inside
+// run_tool, common/tool.hpp).
 int service_main(
     int argc, const char* const* argv, const char* tool,
     const std::function<std::unique_ptr<FramePipeline>(const Rig&, const PipelineOptions&)>&

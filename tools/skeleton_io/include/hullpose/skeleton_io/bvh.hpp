@@ -26,8 +26,13 @@ namespace hullpose::skeleton_io {
 
 using BoneLengths = std::array<double, kNumBones>;  // mm, in the order of kBones
 
-// Median length of each bone over the valid frames (0 frames: Error).
+// The subject's bone lengths for a take's one BVH hierarchy: when some valid frames come from a
+// held body model (model_version >= 1), the lengths of the newest model's frames — which every
+// such frame has exactly, so the BVH reproduces them to float rounding; otherwise the median
+// length of each bone over the valid frames. 0 valid frames: Error.
 BoneLengths subject_bone_lengths(const std::vector<SkeletonFrame>& frames);
+// The model_version subject_bone_lengths takes the lengths from (0: the median of all).
+int32_t held_model_version(const std::vector<SkeletonFrame>& frames);
 BoneLengths bone_lengths(const JointPositions& joints);
 
 class BvhSkeleton {

@@ -32,9 +32,14 @@ struct SkeletonFrame {
   int64_t cameras_used_mask = 0;
   int num_cameras_used = 0;
   int32_t published_us = 0;  // trigger -> published (0 unknown)
+  // skeleton_t.model_version / the estimate CSV's `model`: 0 = provisional (the fusion host's
+  // body model still converging, bone lengths may change); n >= 1 = held body model n, whose bone
+  // lengths every frame with that n has exactly.
+  int32_t model_version = 0;
 };
 
-// False (frame untouched) unless the message carries the 25 joints of common/joints.hpp, finite.
+// False (frame untouched) unless the message carries the 25 joints of common/joints.hpp, finite,
+// and a model_version >= 0.
 bool from_message(const hullpose_msg::skeleton_t& msg, SkeletonFrame& out);
 void to_message(const SkeletonFrame& frame, const std::string& rig_id,
                 hullpose_msg::skeleton_t& out);

@@ -28,16 +28,22 @@ using skeleton_io::SkeletonFrame;
 // "host:port" -> parts; throws hullpose::Error naming `what` (the option).
 std::pair<std::string, int> parse_endpoint(const std::string& what, const std::string& text);
 
-// The session's BVH skeleton, fixed by the first valid frame.
+// The session's BVH skeleton: fixed by the first valid frame, and fixed again by the first frame
+// of each newer held body model (model_version; its lengths then hold for good), so receivers
+// end up with the subject's locked lengths, not a provisional frame's.
 class LiveSkeleton {
  public:
   // False until a valid frame has fixed the skeleton.
   bool update(const SkeletonFrame& f);
   const skeleton_io::BvhSkeleton& bvh() const { return *bvh_; }
   bool ready() const { return bvh_.has_value(); }
+  // Changes whenever the skeleton is fixed anew (outputs rebuild what they derived from it).
+  int generation() const { return generation_; }
 
  private:
   std::optional<skeleton_io::BvhSkeleton> bvh_;
+  int32_t model_ = 0;
+  int generation_ = 0;
 };
 
 class VmcOutput {
@@ -54,7 +60,7 @@ class VmcOutput {
  private:
   lo_address address_;
   std::optional<skeleton_io::HumanoidMap> map_;
-  const skeleton_io::BvhSkeleton* map_for_ = nullptr;
+  int map_generation_ = 0;  // LiveSkeleton::generation the map was made for (0: none)
   std::array<skeleton_io::HumanoidBone, skeleton_io::kNumHumanoidBones> bones_{};
   int64_t sent_ = 0, failed_ = 0;
 };
@@ -96,7 +102,7 @@ class BvhTcpServer {
   boost::asio::ip::tcp::acceptor acceptor_;
   skeleton_io::Fanout fanout_;
   std::shared_ptr<const std::string> header_;  // read and written on the I/O thread only
-  bool header_sent_ = false;                   // producer thread
+  int header_generation_ = 0;                  // producer thread: LiveSkeleton::generation sent
   std::string scratch_, line_;
   int port_ = 0;
   std::thread thread_;

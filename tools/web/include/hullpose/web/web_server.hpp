@@ -1,6 +1,7 @@
 #pragma once
 // hullpose-web's server: HTTP for the page and its assets (Boost.Beast), one WebSocket (/ws) per
-// browser carrying skeleton and status messages as JSON text. Every browser has its own
+// browser carrying skeleton, status and (when the fusion host sends them, --hull-rate) coarse hull
+// messages as JSON text. Every browser has its own
 // drop-oldest queue (skeleton_io/fanout.hpp): a slow or vanished browser loses old poses,
 // counted, and never slows the caller of publish_*(). Runs its own I/O thread.
 //
@@ -8,6 +9,7 @@
 //       /three/...   three.js from Debian's libjs-three (three.min.js, OrbitControls.js)
 //       /rig.json    the rig: capture volume and each camera's centre and axes (mm, rig frame)
 //       /stats.json  counters (sessions, sent, dropped, ...)         /ws  the WebSocket
+#include <atomic>
 #include <filesystem>
 #include <hullpose_msg/node_status_t.hpp>
 #include <map>
@@ -16,6 +18,7 @@
 #include <thread>
 
 #include "hullpose/common/rig.hpp"
+#include "hullpose/msg/hull.hpp"
 #include "hullpose/skeleton_io/asio.hpp"
 #include "hullpose/skeleton_io/fanout.hpp"
 #include "hullpose/skeleton_io/take.hpp"
@@ -36,6 +39,9 @@ std::string rig_json(const Rig& rig);
 // One skeleton / status as the page reads them.
 std::string skeleton_json(const skeleton_io::SkeletonFrame& f);
 std::string status_json(const hullpose_msg::node_status_t& s);
+// The hull as the page draws it: grid geometry and the surface voxels only (an occupied voxel
+// with an empty or outside 6-neighbour), as flat [x, y, z, ...] — the inside is never seen.
+std::string hull_json(const msg::CoarseHull& h);
 
 class WebServer {
  public:
@@ -57,6 +63,7 @@ class WebServer {
   // Any thread; never blocks on a browser.
   void publish_skeleton(const skeleton_io::SkeletonFrame& f);
   void publish_status(const hullpose_msg::node_status_t& s);
+  void publish_hull(const msg::CoarseHull& h);
   const skeleton_io::FanoutStats& stats() const { return fanout_.stats(); }
   std::string stats_json() const;
 
@@ -78,6 +85,7 @@ class WebServer {
   // thread only.
   std::map<std::string, skeleton_io::Message> last_status_;
   int port_ = 0;
+  std::atomic<int64_t> hulls_{0};  // hulls published to the browsers
   std::thread thread_;
 };
 
