@@ -23,7 +23,7 @@ bus::Bus& memq() {
 
 const fs::path& dataset() {
   static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / "hullpose_test_camera_node";
+    const fs::path d = test::scratch_dir("hullpose_test_camera_node");
     test::write_dataset(d, test::small_synth({320, 240}, 6, 20, 2), 1);
     return d;
   }();

@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -13,8 +15,9 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_camera_config";
-  fs::create_directories(dir);
+  const fs::path dir = fs::temp_directory_path() / ("hullpose_test_camera_config_" +
+                                                    std::to_string(::getpid()))  // per process;
+                       fs::create_directories(dir);
   const fs::path p = dir / name;
   std::ofstream(p) << text;
   return p;

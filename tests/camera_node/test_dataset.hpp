@@ -2,6 +2,8 @@
 // Writes a one-camera dataset in the layout of docs/conventions.md (rig.yaml,
 // cam<ID>/background_*.png, cam<ID>/rgb_*.png, cam<ID>/mask_*.png) from a synthetic-rig sequence,
 // plus a node config that replays it. For the camera-node tests.
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -12,13 +14,22 @@
 
 namespace hullpose::test {
 
+// A scratch directory of this test process, `name` plus its pid. Two runs of one test binary
+// can overlap on one machine (make test beside make cross's emulated run, two checkouts): with
+// a shared fixed path, one run's write_dataset() removed and rewrote the files the other was
+// replaying (make cross: a node learnt 15 of 20 background frames, then saw no frame at all).
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 inline std::string indexed(const std::filesystem::path& dir, const char* stem, int i) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%06d.png", stem, i);
   return (dir / name).string();
 }
 
-inline void write_dataset(const std::filesystem::path& dir, const SynthSequence& seq, int camera_id) {
+inline void write_dataset(const std::filesystem::path& dir, const SynthSequence& seq,
+                          int camera_id) {
   std::filesystem::remove_all(dir);
   const std::filesystem::path cam = dir / ("cam" + std::to_string(camera_id));
   std::filesystem::create_directories(cam);
@@ -54,21 +65,24 @@ inline SynthSequence small_synth(cv::Size size, int frames, int background_frame
   return render_synth_sequence(o);
 }
 
-// A node config replaying `dir` for camera `camera_id`; `extra` is appended verbatim (inside `post:`).
+// A node config replaying `dir` for camera `camera_id`; `extra` is appended verbatim (inside
+// `post:`).
 inline std::filesystem::path write_node_config(const std::filesystem::path& dir, int camera_id,
-                                               const std::string& method, const std::string& lcm_url,
+                                               const std::string& method,
+                                               const std::string& lcm_url,
                                                const std::string& extra = "") {
   const std::filesystem::path p = dir / "camera.yaml";
-  std::ofstream(p) << "%YAML:1.0\n"
-                   << "camera_id: " << camera_id << "\n"
-                   << "rig_file: rig.yaml\n"
-                   << "lcm:\n  url: \"" << lcm_url << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
-                   << "source:\n  type: file\n  path: cam" << camera_id << "/rgb_%06d.png\n  fps: 30\n"
-                   << "  start_utime: \"1700000000000000\"\n"  // quoted: cv::FileStorage integers are 32-bit
-                   << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
-                   << "  background: cam" << camera_id << "/background_%06d.png\n"
-                   << "post:\n  min_blob_area: 32\n"
-                   << extra;
+  std::ofstream(p)
+      << "%YAML:1.0\n"
+      << "camera_id: " << camera_id << "\n"
+      << "rig_file: rig.yaml\n"
+      << "lcm:\n  url: \"" << lcm_url << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
+      << "source:\n  type: file\n  path: cam" << camera_id << "/rgb_%06d.png\n  fps: 30\n"
+      << "  start_utime: \"1700000000000000\"\n"  // quoted: cv::FileStorage integers are 32-bit
+      << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
+      << "  background: cam" << camera_id << "/background_%06d.png\n"
+      << "post:\n  min_blob_area: 32\n"
+      << extra;
   return p;
 }
 
