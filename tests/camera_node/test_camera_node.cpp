@@ -22,12 +22,13 @@ bus::Bus& memq() {
 }
 
 const fs::path& dataset() {
-  static const fs::path dir = [] {
-    const fs::path d = test::scratch_dir("hullpose_test_camera_node");
-    test::write_dataset(d, test::small_synth({320, 240}, 6, 20, 2), 1);
-    return d;
+  static const test::ScratchDir dir("hullpose_test_camera_node");  // this process's
+  static const bool written = [] {
+    test::write_dataset(dir.path, test::small_synth({320, 240}, 6, 20, 2), 1);
+    return true;
   }();
-  return dir;
+  (void)written;
+  return dir.path;
 }
 
 std::string error_of(const std::string& extra_or_method, bool is_method = false) {

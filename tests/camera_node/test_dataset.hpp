@@ -2,25 +2,16 @@
 // Writes a one-camera dataset in the layout of docs/conventions.md (rig.yaml,
 // cam<ID>/background_*.png, cam<ID>/rgb_*.png, cam<ID>/mask_*.png) from a synthetic-rig sequence,
 // plus a node config that replays it. For the camera-node tests.
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "hullpose/common/rig.hpp"
+#include "scratch_dir.hpp"
 #include "synth_sequence.hpp"
 
 namespace hullpose::test {
-
-// A scratch directory of this test process, `name` plus its pid. Two runs of one test binary
-// can overlap on one machine (make test beside make cross's emulated run, two checkouts): with
-// a shared fixed path, one run's write_dataset() removed and rewrote the files the other was
-// replaying (make cross: a node learnt 15 of 20 background frames, then saw no frame at all).
-inline std::filesystem::path scratch_dir(const std::string& name) {
-  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-}
 
 inline std::string indexed(const std::filesystem::path& dir, const char* stem, int i) {
   char name[64];

@@ -27,13 +27,13 @@ SourceContext context(int w, int h, const fs::path& base = {}) {
 }
 
 fs::path sequence_dir() {
-  const fs::path dir = test::scratch_dir("hullpose_test_sources");
-  static const bool written = [&] {
-    test::write_dataset(dir, test::small_synth({64, 48}, 3, 1, 1), 2);
+  static const test::ScratchDir dir("hullpose_test_sources");  // this process's
+  static const bool written = [] {
+    test::write_dataset(dir.path, test::small_synth({64, 48}, 3, 1, 1), 2);
     return true;
   }();
   (void)written;
-  return dir;
+  return dir.path;
 }
 
 }  // namespace
@@ -223,7 +223,8 @@ TEST_CASE("the synthetic source renders this camera's view of the synthetic rig"
 TEST_CASE(
     "file source plays video files frame-exactly on triggers; corrupt frames are reported, not "
     "thrown") {
-  const fs::path dir = test::scratch_dir("hullpose_test_video");
+  const test::ScratchDir scratch("hullpose_test_video");
+  const fs::path& dir = scratch.path;
   fs::create_directories(dir);
   // 12 frames whose grey level encodes the index, MJPG in AVI (OpenCV's FFmpeg backend).
   const std::string video = (dir / "clip.avi").string();
