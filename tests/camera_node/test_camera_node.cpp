@@ -22,13 +22,9 @@ bus::Bus& memq() {
 }
 
 const fs::path& dataset() {
-  static const test::ScratchDir dir("hullpose_test_camera_node");  // this process's
-  static const bool written = [] {
-    test::write_dataset(dir.path, test::small_synth({320, 240}, 6, 20, 2), 1);
-    return true;
-  }();
-  (void)written;
-  return dir.path;
+  static const test::ScratchDataset d("hullpose_test_camera_node",
+                                      test::small_synth({320, 240}, 6, 20, 2), 1);
+  return d.dir.path;
 }
 
 std::string error_of(const std::string& extra_or_method, bool is_method = false) {

@@ -46,6 +46,15 @@ inline void write_dataset(const std::filesystem::path& dir, const SynthSequence&
   }
 }
 
+// A dataset in this process's own scratch directory (see scratch_dir.hpp), removed with it; as a
+// function-local static, written once per test process.
+struct ScratchDataset {
+  ScratchDir dir;
+  ScratchDataset(const std::string& name, const SynthSequence& seq, int camera_id) : dir(name) {
+    write_dataset(dir.path, seq, camera_id);
+  }
+};
+
 // A small synthetic sequence for the node tests.
 inline SynthSequence small_synth(cv::Size size, int frames, int background_frames, uint64_t seed) {
   SynthSequenceOptions o;

@@ -27,13 +27,9 @@ SourceContext context(int w, int h, const fs::path& base = {}) {
 }
 
 fs::path sequence_dir() {
-  static const test::ScratchDir dir("hullpose_test_sources");  // this process's
-  static const bool written = [] {
-    test::write_dataset(dir.path, test::small_synth({64, 48}, 3, 1, 1), 2);
-    return true;
-  }();
-  (void)written;
-  return dir.path;
+  static const test::ScratchDataset d("hullpose_test_sources", test::small_synth({64, 48}, 3, 1, 1),
+                                      2);
+  return d.dir.path;
 }
 
 }  // namespace

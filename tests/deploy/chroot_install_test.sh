@@ -23,12 +23,18 @@ if [[ -n $old ]]; then
   chroot "$root" sh -c 'dpkg -i /tmp/old/*.deb' > /dev/null || fail "dpkg -i of the old packages"
   echo "installed the old release: $(cd "$old" && ls *.deb | tr '\n' ' ')"
 fi
-chroot "$root" sh -c 'dpkg -i /tmp/pk/*.deb' || fail "dpkg -i"
+if [[ -n $old ]]; then
+  # apt, as the README says: it orders the unpacks so a file that moved between packages
+  # (Breaks + Replaces) changes hands; dpkg -i in name order would refuse.
+  chroot "$root" apt-get install -y -q /tmp/pk/*.deb > /dev/null || fail "apt-get install (upgrade)"
+else
+  chroot "$root" sh -c 'dpkg -i /tmp/pk/*.deb' || fail "dpkg -i"
+fi
 chroot "$root" id hullpose | grep -q '(video)' || fail "hullpose not in group video"
 chroot "$root" id hullpose | grep -q '(gpio)' || fail "hullpose not in group gpio"
 [[ $(chroot "$root" getent passwd hullpose | cut -d: -f7) == /usr/sbin/nologin ]] || fail "hullpose has a login shell"
 chroot "$root" dpkg -s hullpose-common | grep -q '/etc/hullpose/hullpose.conf' || fail "hullpose.conf is not a conffile"
-chroot "$root" sh -c 'dpkg -i /tmp/pk/*.deb' > /dev/null || fail "reinstall (upgrade path)"
+chroot "$root" sh -c 'dpkg -i /tmp/pk/*.deb' > /dev/null || fail "reinstall (same version)"
 # The rig key as README "Deploying a rig" step 6 installs it: the service user reads it, others not.
 chroot "$root" sh -c 'cd /tmp && hullpose-rig-key --output rig.key && install -o hullpose -g hullpose -m 600 rig.key /etc/hullpose/rig.key' > /dev/null \
   || fail "making and installing the rig key"
