@@ -26,7 +26,7 @@ fi
 if [[ -n $old ]]; then
   # apt, as the README says: it orders the unpacks so a file that moved between packages
   # (Breaks + Replaces) changes hands; dpkg -i in name order would refuse.
-  chroot "$root" apt-get install -y -q /tmp/pk/*.deb > /dev/null || fail "apt-get install (upgrade)"
+  chroot "$root" sh -c 'apt-get install -y -q /tmp/pk/*.deb' > /dev/null || fail "apt-get install (upgrade)"
 else
   chroot "$root" sh -c 'dpkg -i /tmp/pk/*.deb' || fail "dpkg -i"
 fi
