@@ -91,8 +91,8 @@ TEST_CASE("our subtraction methods allocate nothing per frame") {
 }
 
 TEST_CASE("a node frame (capture, subtraction, encoding, queueing) allocates nothing") {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "hullpose_test_camera_alloc";
+  const test::ScratchDir scratch("hullpose_test_camera_alloc");
+  const std::filesystem::path& dir = scratch.path;
   constexpr int kFrames = 8;
   test::write_dataset(dir, test::small_synth({160, 120}, kFrames, 10, 1), 0);
   NodeConfig config = load_node_config(test::write_node_config(dir, 0, "sobs", "memq://"));

@@ -22,12 +22,9 @@ bus::Bus& memq() {
 }
 
 const fs::path& dataset() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / "hullpose_test_camera_node";
-    test::write_dataset(d, test::small_synth({320, 240}, 6, 20, 2), 1);
-    return d;
-  }();
-  return dir;
+  static const test::ScratchDataset d("hullpose_test_camera_node",
+                                      test::small_synth({320, 240}, 6, 20, 2), 1);
+  return d.dir.path;
 }
 
 std::string error_of(const std::string& extra_or_method, bool is_method = false) {

@@ -84,7 +84,8 @@ struct Received {
 }  // namespace
 
 TEST_CASE("a synthetic-source camera node process publishes its silhouettes over UDP multicast") {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_camera_node_lcm";
+  const test::ScratchDir scratch("hullpose_test_camera_node_lcm");
+  const fs::path& dir = scratch.path;
   constexpr int kEmpty = 20, kFrames = 10;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -181,7 +182,8 @@ TEST_CASE("a synthetic-source camera node process publishes its silhouettes over
 }
 
 TEST_CASE("the camera node process fails cleanly on a malformed config or an absent camera") {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_camera_node_errors";
+  const test::ScratchDir scratch("hullpose_test_camera_node_errors");
+  const fs::path& dir = scratch.path;
   test::write_dataset(dir, test::small_synth({64, 48}, 1, 1, 1), 0);
   std::string err;
 

@@ -5,6 +5,7 @@
 #include "hullpose/camera_node/node_config.hpp"
 #include "hullpose/camera_node/params.hpp"
 #include "hullpose/common/check.hpp"
+#include "scratch_dir.hpp"
 
 using namespace hullpose;
 using namespace hullpose::camera_node;
@@ -13,9 +14,8 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_camera_config";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  static const test::ScratchDir dir("hullpose_test_camera_config");  // this process's
+  const fs::path p = dir.path / name;
   std::ofstream(p) << text;
   return p;
 }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "hullpose/common/rig.hpp"
+#include "scratch_dir.hpp"
 #include "synth_sequence.hpp"
 
 namespace hullpose::test {
@@ -18,7 +19,8 @@ inline std::string indexed(const std::filesystem::path& dir, const char* stem, i
   return (dir / name).string();
 }
 
-inline void write_dataset(const std::filesystem::path& dir, const SynthSequence& seq, int camera_id) {
+inline void write_dataset(const std::filesystem::path& dir, const SynthSequence& seq,
+                          int camera_id) {
   std::filesystem::remove_all(dir);
   const std::filesystem::path cam = dir / ("cam" + std::to_string(camera_id));
   std::filesystem::create_directories(cam);
@@ -44,6 +46,15 @@ inline void write_dataset(const std::filesystem::path& dir, const SynthSequence&
   }
 }
 
+// A dataset in this process's own scratch directory (see scratch_dir.hpp), removed with it; as a
+// function-local static, written once per test process.
+struct ScratchDataset {
+  ScratchDir dir;
+  ScratchDataset(const std::string& name, const SynthSequence& seq, int camera_id) : dir(name) {
+    write_dataset(dir.path, seq, camera_id);
+  }
+};
+
 // A small synthetic sequence for the node tests.
 inline SynthSequence small_synth(cv::Size size, int frames, int background_frames, uint64_t seed) {
   SynthSequenceOptions o;
@@ -54,21 +65,24 @@ inline SynthSequence small_synth(cv::Size size, int frames, int background_frame
   return render_synth_sequence(o);
 }
 
-// A node config replaying `dir` for camera `camera_id`; `extra` is appended verbatim (inside `post:`).
+// A node config replaying `dir` for camera `camera_id`; `extra` is appended verbatim (inside
+// `post:`).
 inline std::filesystem::path write_node_config(const std::filesystem::path& dir, int camera_id,
-                                               const std::string& method, const std::string& lcm_url,
+                                               const std::string& method,
+                                               const std::string& lcm_url,
                                                const std::string& extra = "") {
   const std::filesystem::path p = dir / "camera.yaml";
-  std::ofstream(p) << "%YAML:1.0\n"
-                   << "camera_id: " << camera_id << "\n"
-                   << "rig_file: rig.yaml\n"
-                   << "lcm:\n  url: \"" << lcm_url << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
-                   << "source:\n  type: file\n  path: cam" << camera_id << "/rgb_%06d.png\n  fps: 30\n"
-                   << "  start_utime: \"1700000000000000\"\n"  // quoted: cv::FileStorage integers are 32-bit
-                   << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
-                   << "  background: cam" << camera_id << "/background_%06d.png\n"
-                   << "post:\n  min_blob_area: 32\n"
-                   << extra;
+  std::ofstream(p)
+      << "%YAML:1.0\n"
+      << "camera_id: " << camera_id << "\n"
+      << "rig_file: rig.yaml\n"
+      << "lcm:\n  url: \"" << lcm_url << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
+      << "source:\n  type: file\n  path: cam" << camera_id << "/rgb_%06d.png\n  fps: 30\n"
+      << "  start_utime: \"1700000000000000\"\n"  // quoted: cv::FileStorage integers are 32-bit
+      << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
+      << "  background: cam" << camera_id << "/background_%06d.png\n"
+      << "post:\n  min_blob_area: 32\n"
+      << extra;
   return p;
 }
 

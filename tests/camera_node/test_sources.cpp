@@ -27,13 +27,9 @@ SourceContext context(int w, int h, const fs::path& base = {}) {
 }
 
 fs::path sequence_dir() {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_sources";
-  static const bool written = [&] {
-    test::write_dataset(dir, test::small_synth({64, 48}, 3, 1, 1), 2);
-    return true;
-  }();
-  (void)written;
-  return dir;
+  static const test::ScratchDataset d("hullpose_test_sources", test::small_synth({64, 48}, 3, 1, 1),
+                                      2);
+  return d.dir.path;
 }
 
 }  // namespace
@@ -223,7 +219,8 @@ TEST_CASE("the synthetic source renders this camera's view of the synthetic rig"
 TEST_CASE(
     "file source plays video files frame-exactly on triggers; corrupt frames are reported, not "
     "thrown") {
-  const fs::path dir = fs::temp_directory_path() / "hullpose_test_video";
+  const test::ScratchDir scratch("hullpose_test_video");
+  const fs::path& dir = scratch.path;
   fs::create_directories(dir);
   // 12 frames whose grey level encodes the index, MJPG in AVI (OpenCV's FFmpeg backend).
   const std::string video = (dir / "clip.avi").string();

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 
+#include "hullpose/auth/rig_key.hpp"
 #include "hullpose/doctor/checks.hpp"
 #include "hullpose/synth/rig_gen.hpp"
 
@@ -32,6 +33,7 @@ constexpr const char* kRouteLoMulticast =
 // A healthy camera board + fusion host in a directory; each test breaks one thing.
 struct FakeRoot {
   fs::path root;
+  bool keyed = true;  // camera3.yaml names the rig key (lcm.rig_key)
   explicit FakeRoot(const std::string& name) {
     root =
         fs::temp_directory_path() / ("hullpose-doctor-" + name + "-" + std::to_string(::getpid()));
@@ -46,9 +48,10 @@ struct FakeRoot {
     write("/etc/hullpose/hullpose.conf",
           "# rig-wide\nHULLPOSE_LCM_URL=\"udpm://239.255.76.67:7667?ttl=1&recv_buf_size=4194304\"\n"
           "HULLPOSE_RIG=/etc/hullpose/"
-          "rig.yaml\nHULLPOSE_RIG_ID=thesis8\nHULLPOSE_TRIGGER_LINE=gpiod:gpiochip0:17\n");
+          "rig.yaml\nHULLPOSE_RIG_ID=thesis8\nHULLPOSE_TRIGGER_LINE=gpiod:gpiochip0:17\n"
+          "HULLPOSE_RIG_KEY=/etc/hullpose/rig.key\n");
+    auth::RigKey::generate().save((root / "etc/hullpose/rig.key").string());
     camera("ttl=1&recv_buf_size=4194304", "libcamera", "external_trigger: true");
-    fs::create_directories(root / "etc/hullpose");
     save_rig(synth::make_ring_rig({}), root / "etc/hullpose/rig.yaml");
   }
   ~FakeRoot() { fs::remove_all(root); }
@@ -64,7 +67,8 @@ struct FakeRoot {
               (source_extra.empty() ? "" : ", " + source_extra) +
               " }\nbgs: { method: sobs, learn_frames: 30 }\nlcm: { url: "
               "\"udpm://239.255.76.67:7667?" +
-              url_options + "\" }\ntrigger:\n  edges: gpiod\n  chip: gpiochip0\n  line: 17\n");
+              url_options + "\"" + (keyed ? ", rig_key: rig.key" : "") +
+              " }\ntrigger:\n  edges: gpiod\n  chip: gpiochip0\n  line: 17\n");
   }
 };
 
@@ -107,7 +111,7 @@ TEST_CASE("a healthy board passes every check") {
   const auto by = by_check(host);
   for (const char* check :
        {"net.multicast_route", "net.multicast_ttl", "net.rmem", "clock.sync", "gpio.trigger_master",
-        "camera.3", "camera.3.trigger_mode", "gpio.camera3", "rig.file"})
+        "camera.3", "camera.3.trigger_mode", "gpio.camera3", "rig.file", "rig.key"})
     CHECK(by.count(check) == 1);
 }
 
@@ -263,16 +267,58 @@ TEST_CASE("the trigger master announces another rig id than the rig file's") {
   CHECK_THAT(r.fix, Catch::Contains("HULLPOSE_RIG_ID=thesis8"));
 }
 
+TEST_CASE("rig key missing, readable by others, or none configured") {
+  FakeRoot f("rigkey");
+  FakeHost host(f.root);
+  const fs::path key = f.root / "etc/hullpose/rig.key";
+  const Result good = by_check(host, Role::kFusionHost)["rig.key"];
+  CHECK(good.status == Status::kOk);
+  CHECK_THAT(good.message, Catch::Contains("key id "));
+
+  fs::permissions(key, fs::perms::group_read | fs::perms::others_read, fs::perm_options::add);
+  for (const Role role : {Role::kFusionHost, Role::kCameraNode}) {
+    const Result r = by_check(host, role)["rig.key"];  // the camera's from its config's lcm.rig_key
+    CHECK(r.status == Status::kFail);
+    CHECK_THAT(r.message, Catch::Contains("permissions 0644"));
+    CHECK_THAT(r.fix, Catch::Contains("install -o hullpose -g hullpose -m 600 rig.key"));
+  }
+  fs::remove(key);
+  const Result missing = by_check(host, Role::kFusionHost)["rig.key"];
+  CHECK(missing.status == Status::kFail);
+  CHECK_THAT(missing.message, Catch::Contains("rig key /etc/hullpose/rig.key is missing"));
+  CHECK_THAT(missing.fix, Catch::Contains("hullpose-rig-key --output rig.key"));
+  CHECK(by_check(host, Role::kCameraNode)["rig.key"].status == Status::kFail);
+
+  f.write("/etc/hullpose/hullpose.conf", "HULLPOSE_RIG=/etc/hullpose/rig.yaml\n");
+  f.keyed = false;
+  f.camera("ttl=1&recv_buf_size=4194304", "libcamera", "");
+  for (const Role role : {Role::kAll, Role::kCameraNode}) {
+    const Result open = by_check(host, role)["rig.key"];
+    CHECK(open.status == Status::kWarn);
+    CHECK_THAT(open.message, Catch::Contains("not authenticated"));
+  }
+}
+
 TEST_CASE("the shipped and the board profiles' camera configs load") {
+  // Each beside a rig key, as on a board (/etc/hullpose/rig.key; lcm.rig_key: rig.key).
   const fs::path src = HULLPOSE_SOURCE_DIR;
-  for (const char* file : {"deploy/config/camera0.yaml", "deploy/boards/rpi5-global-shutter/camera.yaml",
-                           "deploy/boards/rpi-hq-free-running/camera.yaml"}) {
-    const CameraSetup c = load_camera(Host("/"), (src / file).string());
+  const fs::path dir =
+      fs::temp_directory_path() / ("hullpose-doctor-shipped-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auth::RigKey::generate().save((dir / "rig.key").string());
+  for (const char* file :
+       {"deploy/config/camera0.yaml", "deploy/boards/rpi5-global-shutter/camera.yaml",
+        "deploy/boards/rpi-hq-free-running/camera.yaml"}) {
+    fs::copy_file(src / file, dir / "camera.yaml", fs::copy_options::overwrite_existing);
+    const CameraSetup c = load_camera(Host("/"), (dir / "camera.yaml").string());
     INFO(file);
     CHECK(c.error.empty());
     CHECK(c.source == "libcamera");
     CHECK(c.trigger_edges == "gpiod:pinctrl-rp1:17");
+    CHECK(c.rig_key == (dir / "rig.key").string());
   }
+  fs::remove_all(dir);
 }
 
 TEST_CASE("LCM URLs: udpm options, other providers") {

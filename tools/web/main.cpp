@@ -2,6 +2,7 @@
 // fusion host sends it, over LCM), or the playback of a recorded take (--play). Open the
 // printed URL.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -21,12 +22,26 @@ const char* kUsage =
     "[--queue 8]\n"
     "         [--play TAKE (estimate .csv | lcm-logger log) [--fps 30] [--once]]\n"
     "         [--page DIR] [--three DIR] [--duration-s S] [--ready-file FILE]\n";
+
+// The page: installed beside the program (PREFIX/share/hullpose/web for PREFIX/bin/hullpose-web,
+// what the hullpose-consumers package holds), else this checkout's tools/web/page (a build tree
+// runs in place). Found from the program's own path, so an unpacked or relocated tree works too.
+std::filesystem::path default_page_dir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed =
+        exe.parent_path().parent_path() / HULLPOSE_WEB_PAGE_INSTALL_DIR;
+    if (std::filesystem::exists(installed / "index.html", ec)) return installed;
+  }
+  return HULLPOSE_WEB_PAGE_DIR;
+}
 }  // namespace
 
 int run(int argc, const char* const* argv) {
   namespace sio = hullpose::skeleton_io;
   hullpose::web::WebOptions w;
-  w.page_dir = HULLPOSE_WEB_PAGE_DIR;
+  w.page_dir = default_page_dir();
   sio::SubscriptionOptions sub;
   std::string lcm_url, rig_key, rig_file, play, page = w.page_dir.string(),
                                                 three = w.three_dir.string(), ready_file;

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <sstream>
 
+#include "hullpose/auth/rig_key.hpp"
 #include "hullpose/camera_node/node_config.hpp"
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/rig.hpp"
@@ -19,8 +21,9 @@ Role parse_role(const std::string& text) {
   if (text == "camera-node") return Role::kCameraNode;
   if (text == "trigger-master") return Role::kTriggerMaster;
   if (text == "fusion-host") return Role::kFusionHost;
-  HULLPOSE_THROW("--role must be all, camera-node, trigger-master or fusion-host, got '" << text
-                                                                                         << "'");
+  if (text == "consumer") return Role::kConsumer;
+  HULLPOSE_THROW("--role must be all, camera-node, trigger-master, fusion-host or consumer, got '"
+                 << text << "'");
 }
 
 const char* status_name(Status s) {
@@ -430,6 +433,42 @@ void check_rig(const Host& host, const std::string& rig_file, const std::vector<
   }
 }
 
+// --- the rig key
+// ---------------------------------------------------------------------------------
+
+// The same key file on every board, readable by the service user only: a board with another key
+// (or none) has every message it sends dropped by the others as unauthenticated, counted but
+// silent; RigKey::load refuses a key that group or others can read.
+void check_rig_key(const Host& host, const std::string& key_file, std::vector<Result>& out) {
+  const std::string install = "install -o hullpose -g hullpose -m 600 rig.key " +
+                              (key_file.empty() ? std::string("/etc/hullpose/rig.key") : key_file);
+  if (key_file.empty()) {
+    out.push_back(bad(Status::kWarn, "rig.key",
+                      "no rig key: messages are not authenticated, anything on the LAN can "
+                      "send triggers and poses",
+                      "on one host: hullpose-rig-key --output rig.key; on every board: " + install +
+                          " and set HULLPOSE_RIG_KEY (and lcm.rig_key of camera nodes)"));
+    return;
+  }
+  if (!host.exists(key_file)) {
+    out.push_back(bad(Status::kFail, "rig.key", "rig key " + key_file + " is missing",
+                      "copy the rig's key (made once by hullpose-rig-key --output rig.key) to "
+                      "this board: " +
+                          install));
+    return;
+  }
+  try {
+    const auth::RigKey key = auth::RigKey::load(host.at(key_file).string());
+    char id[16];
+    std::snprintf(id, sizeof id, "%08x", key.id());
+    out.push_back(ok("rig.key", "rig key " + key_file + ", key id " + id +
+                                    " (the same on every board: hullpose-rig-key --check)"));
+  } catch (const Error& e) {
+    out.push_back(bad(Status::kFail, "rig.key", e.what(),
+                      install + " (the service user reads it, nobody else)"));
+  }
+}
+
 }  // namespace
 
 CameraSetup load_camera(const Host& host, const std::string& config_file) {
@@ -445,6 +484,8 @@ CameraSetup load_camera(const Host& host, const std::string& config_file) {
     c.external_trigger = cfg.source.params.get_bool("external_trigger", false);
     c.trigger_edges = cfg.trigger.enabled ? cfg.trigger.edges : "";
     c.lcm_url = cfg.lcm.url;
+    const std::string key = cfg.lcm.rig_key.string();
+    c.rig_key = key.empty() || host.root() == "/" ? key : "/" + fs::relative(key, root).string();
   } catch (const Error& e) {
     c.error = e.what();
   }
@@ -473,6 +514,7 @@ Setup setup_from_etc(const Host& host, Role role) {
       if (key == "HULLPOSE_RIG") s.rig_file = value;
       if (key == "HULLPOSE_TRIGGER_LINE") s.trigger_line = value;
       if (key == "HULLPOSE_RIG_ID") s.rig_id = value;
+      if (key == "HULLPOSE_RIG_KEY") s.rig_key = value;
     }
   }
   if (role == Role::kAll || role == Role::kCameraNode)
@@ -502,13 +544,19 @@ std::vector<Result> run_checks(const Host& host, const Setup& setup) {
   if ((all || setup.role == Role::kTriggerMaster) && setup.trigger_line.rfind("gpiod:", 0) == 0)
     check_gpio(host, "trigger_master", setup.trigger_line, "hullpose-trigger-master", out);
   // The fusion host's rig file is checked once, for the cameras configured with the same file.
-  const bool host_rig =
-      all || setup.role == Role::kFusionHost || setup.role == Role::kTriggerMaster;
+  const bool host_rig = all || setup.role == Role::kFusionHost ||
+                        setup.role == Role::kTriggerMaster || setup.role == Role::kConsumer;
   std::vector<int> ids;
   for (const CameraSetup& c : setup.cameras) {
     if (!c.error.empty()) {
-      out.push_back(bad(Status::kFail, "camera.config", c.error,
-                        "fix the field named above in " + c.config_file));
+      // The node config checks its lcm.rig_key as it loads (RigKey::load's message says what).
+      const bool key = c.error.find("rig key '") != std::string::npos;
+      out.push_back(
+          bad(Status::kFail, key ? "rig.key" : "camera.config", c.error,
+              key ? "install -o hullpose -g hullpose -m 600 rig.key <the file named above> "
+                    "(the rig's key, the same on every board; made once by "
+                    "hullpose-rig-key --output rig.key)"
+                  : "fix the field named above in " + c.config_file));
       continue;
     }
     check_camera(host, c, out);
@@ -521,6 +569,13 @@ std::vector<Result> run_checks(const Host& host, const Setup& setup) {
       ids.push_back(c.camera_id);
   }
   if (host_rig) check_rig(host, setup.rig_file, ids, setup.rig_id, out);
+  // The key of each process of this board, once per distinct file.
+  std::vector<std::string> keys;
+  if (all || setup.role != Role::kCameraNode) keys.push_back(setup.rig_key);
+  for (const CameraSetup& c : setup.cameras)
+    if (c.error.empty() && std::find(keys.begin(), keys.end(), c.rig_key) == keys.end())
+      keys.push_back(c.rig_key);
+  for (const std::string& key : keys) check_rig_key(host, key, out);
   if (setup.role == Role::kCameraNode && setup.cameras.empty())
     out.push_back(
         bad(Status::kFail, "camera.config", "no camera node config (/etc/hullpose/camera<N>.yaml)",

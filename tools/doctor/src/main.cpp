@@ -11,14 +11,13 @@
 
 namespace {
 constexpr const char* kUsage =
-    "usage: hullpose-doctor [--role all|camera-node|trigger-master|fusion-host] [--config FILE]\n"
-    "         [--lcm-url URL] [--rig FILE] [--trigger-line gpiod:CHIP:OFFSET] [--root DIR] "
-    "[--startup] [--json]\n"
-    "  Checks what silently breaks LCM and the trigger on this host: receive buffers, the "
-    "multicast\n"
-    "  route and TTL, the clock's synchronisation, the trigger GPIO, the camera, the rig file; "
-    "each\n"
-    "  failure says what to run. Without options: everything /etc/hullpose/ configures.\n"
+    "usage: hullpose-doctor [--role all|camera-node|trigger-master|fusion-host|consumer]\n"
+    "         [--config FILE] [--lcm-url URL] [--rig FILE] [--rig-key FILE]\n"
+    "         [--trigger-line gpiod:CHIP:OFFSET] [--root DIR] [--startup] [--json]\n"
+    "  Checks what silently breaks LCM and the trigger on this host: receive buffers, the\n"
+    "  multicast route and TTL, the clock's synchronisation, the trigger GPIO, the camera, the\n"
+    "  rig file and the rig key; each failure says what to run. Without options: everything\n"
+    "  /etc/hullpose/ configures.\n"
     "  --config FILE   a camera node's config (instead of every /etc/hullpose/camera*.yaml)\n"
     "  --root DIR      read procfs, sysfs, /dev and /etc under DIR (a fake tree; tests)\n"
     "  --startup       print only what is not ok (for ExecStartPre)\n"
@@ -26,13 +25,14 @@ constexpr const char* kUsage =
 
 int run(int argc, const char* const* argv) {
   using namespace hullpose;
-  std::string role_text = "all", config, lcm_url, rig, trigger_line, root = "/";
-  bool startup = false, json = false, lcm_given = false;
+  std::string role_text = "all", config, lcm_url, rig, rig_key, trigger_line, root = "/";
+  bool startup = false, json = false, lcm_given = false, key_given = false;
   cli::CommandLine line(kUsage);
   line.option("--role", role_text)
       .option("--config", config)
       .option("--lcm-url", [&](const std::string& v) { lcm_url = v, lcm_given = true; })
       .option("--rig", rig)
+      .option("--rig-key", [&](const std::string& v) { rig_key = v, key_given = true; })
       .option("--trigger-line", trigger_line)
       .option("--root", root)
       .flag("--startup", startup)
@@ -46,6 +46,7 @@ int run(int argc, const char* const* argv) {
   if (!config.empty()) setup.cameras = {doctor::load_camera(host, config)};
   if (lcm_given) setup.lcm_url = lcm_url;
   if (!rig.empty()) setup.rig_file = rig;
+  if (key_given) setup.rig_key = rig_key;  // "" (an open rig) too
   if (!trigger_line.empty()) setup.trigger_line = trigger_line;
 
   const std::vector<doctor::Result> results = doctor::run_checks(host, setup);

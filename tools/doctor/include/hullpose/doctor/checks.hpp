@@ -2,7 +2,8 @@
 // The start-up checks of hullpose-doctor: what silently breaks LCM and the trigger on a board —
 // a receive buffer too small for the message rate, no multicast route, multicast TTL 0 on a real
 // LAN, the trigger GPIO chip or line missing or busy, the camera absent, the clock not
-// synchronised, a missing or unreadable rig file. Each result says what to run to fix it.
+// synchronised, a missing or unreadable rig file or rig key. Each result says what to run to fix
+// it.
 //
 //   Host host("/");                                  // or a fake root (tests)
 //   Setup setup = setup_from_etc(host, Role::kAll);  // /etc/hullpose/hullpose.conf, camera*.yaml
@@ -15,8 +16,10 @@
 
 namespace hullpose::doctor {
 
-enum class Role { kAll, kCameraNode, kTriggerMaster, kFusionHost };
-Role parse_role(const std::string& text);  // all | camera-node | trigger-master | fusion-host
+// kConsumer: a LAN host that reads the skeletons (hullpose-web): network, clock, rig file, key.
+enum class Role { kAll, kCameraNode, kTriggerMaster, kFusionHost, kConsumer };
+// all | camera-node | trigger-master | fusion-host | consumer
+Role parse_role(const std::string& text);
 
 enum class Status { kOk, kWarn, kFail, kSkip };
 const char* status_name(Status s);
@@ -39,6 +42,7 @@ struct CameraSetup {
   bool external_trigger = false;
   std::string trigger_edges;  // "gpiod:CHIP:LINE", "wire:PATH" or empty
   std::string lcm_url;
+  std::string rig_key;  // lcm.rig_key, absolute on the checked machine; empty: an open rig
 };
 
 struct Setup {
@@ -47,12 +51,13 @@ struct Setup {
   std::string rig_file;      // fusion host / all; absolute on the checked machine; may be empty
   std::string trigger_line;  // trigger master: gpiod:CHIP:OFFSET | wire:PATH | sim; may be empty
   std::string rig_id;        // what the trigger master announces (HULLPOSE_RIG_ID); may be empty
+  std::string rig_key;       // the rig's key file (HULLPOSE_RIG_KEY); empty: an open rig
   std::vector<CameraSetup> cameras;
 };
 
 // Reads /etc/hullpose/*.conf (the units' environment files, KEY=VALUE: HULLPOSE_LCM_URL,
-// HULLPOSE_RIG, HULLPOSE_RIG_ID, HULLPOSE_TRIGGER_LINE) and, for camera nodes, every
-// /etc/hullpose/camera*.yaml under the root.
+// HULLPOSE_RIG, HULLPOSE_RIG_ID, HULLPOSE_RIG_KEY, HULLPOSE_TRIGGER_LINE) and, for camera nodes,
+// every /etc/hullpose/camera*.yaml under the root.
 Setup setup_from_etc(const Host& host, Role role);
 // A camera node's config file (a path on the checked machine, read under the root).
 CameraSetup load_camera(const Host& host, const std::string& config_file);
