@@ -8,11 +8,13 @@ BUILD_ARM64 ?= build-arm64
 JOBS        ?= $(shell nproc)
 CMAKE_FLAGS ?=
 FUZZ_SECONDS ?= 60
+FUZZ_LONG_RUNS ?= 10000000
+FUZZ_LONG_SECONDS ?= 14400
 SOAK_MINUTES ?= 10
 CMAKE       := cmake
 CTEST_FLAGS ?= --output-on-failure --timeout 900
 
-.PHONY: all deps configure build test test-asan test-gpu demo bench eval fuzz soak format format-check clean package cross
+.PHONY: all deps configure build test test-asan test-gpu demo bench eval fuzz fuzz-long fuzz-build soak format format-check clean package cross
 
 all: build
 
@@ -50,11 +52,19 @@ bench: build
 eval: build
 	@tools/eval/run-eval.py $(BUILD)
 
-# FUZZ_RUNS=N stops each target at N executions (or FUZZ_SECONDS, if sooner); FUZZ_JOBS=N in parallel.
-fuzz: deps
+# FUZZ_RUNS=N stops each target at N executions (or FUZZ_SECONDS, if sooner); FUZZ_JOBS=N in parallel;
+# FUZZ_TARGETS="fuzz_bvh fuzz_meta" runs only those (tools/fuzz/run-fuzz.sh).
+fuzz: fuzz-build
+	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)
+
+# The long run of issue 19: every target to FUZZ_LONG_RUNS executions (default 10 M) or
+# FUZZ_LONG_SECONDS each (default 4 h), at nice 10. Not part of make test.
+fuzz-long: fuzz-build
+	FUZZ_RUNS=$(FUZZ_LONG_RUNS) nice -n 10 tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_LONG_SECONDS)
+
+fuzz-build: deps
 	CC=clang CXX=clang++ $(CMAKE) -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_FUZZ=ON $(CMAKE_FLAGS)
 	$(CMAKE) --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_targets
-	@tools/fuzz/run-fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS)
 
 # The rig for SOAK_MINUTES in network namespaces (root): 8 nodes + master + host + listener at
 # 30 Hz with 1 % loss; JSON summary in $(BUILD)/soak.json (tests/system/soak.sh).

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "hullpose/common/check.hpp"
 
@@ -56,10 +57,9 @@ T parse_number(std::string_view text, const fs::path& path, int line_no, const c
 // Shared by ground truth (frame,utime,...) and estimates (frame,valid,reason[,model],...).
 // `old_lead_header`, if not empty, is an older layout still accepted (its missing columns
 // default).
-std::vector<PoseRecord> read_pose_csv(const fs::path& path, const std::string& lead_header,
-                                      bool estimates, const std::string& old_lead_header = "") {
-  std::ifstream in(path);
-  HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+std::vector<PoseRecord> read_pose_csv(std::istream& in, const fs::path& path,
+                                      const std::string& lead_header, bool estimates,
+                                      const std::string& old_lead_header = "") {
   std::string line;
   HULLPOSE_THROW_UNLESS(std::getline(in, line), path.string() << ": empty file");
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -215,9 +215,15 @@ DatasetMeta read_meta(const fs::path& path) {
   HULLPOSE_THROW_UNLESS(fs::exists(path), path.string() << ": not found");
   std::ifstream in(path);
   HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_meta(text.str(), path);
+}
+
+DatasetMeta parse_meta(std::string_view text, const fs::path& path) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     HULLPOSE_THROW(path.string() << ": not valid JSON: " << e.what());
   }
@@ -255,7 +261,14 @@ void write_ground_truth(const fs::path& path, const std::vector<PoseRecord>& fra
 }
 
 std::vector<PoseRecord> read_ground_truth(const fs::path& path) {
-  return read_pose_csv(path, "frame,utime", false);
+  std::ifstream in(path);
+  HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+  return read_pose_csv(in, path, "frame,utime", false);
+}
+
+std::vector<PoseRecord> parse_ground_truth(const std::string& text, const fs::path& path) {
+  std::istringstream in(text);
+  return read_pose_csv(in, path, "frame,utime", false);
 }
 
 EstimateWriter::EstimateWriter(const fs::path& path) : path_(path), out_(path) {
@@ -270,7 +283,14 @@ void EstimateWriter::write(const PoseRecord& r) {
 }
 
 std::vector<PoseRecord> read_estimates(const fs::path& path) {
-  return read_pose_csv(path, "frame,valid,reason,model", true, "frame,valid,reason");
+  std::ifstream in(path);
+  HULLPOSE_THROW_UNLESS(in, path.string() << ": cannot open");
+  return read_pose_csv(in, path, "frame,valid,reason,model", true, "frame,valid,reason");
+}
+
+std::vector<PoseRecord> parse_estimates(const std::string& text, const fs::path& path) {
+  std::istringstream in(text);
+  return read_pose_csv(in, path, "frame,valid,reason,model", true, "frame,valid,reason");
 }
 
 }  // namespace hullpose

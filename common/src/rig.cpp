@@ -84,10 +84,9 @@ double repair_rotation(Eigen::Matrix3d& R) {
   return deviation;
 }
 
-Rig load_rig(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  HULLPOSE_THROW_UNLESS(std::filesystem::exists(path), file << ": rig file not found");
-  const yaml::Document doc = yaml::Document::load(path);
+namespace {
+
+Rig read_rig(const yaml::Document& doc, const std::string& file) {
   const yaml::Node root = doc.root();
   const yaml::Node version = root.need("version");
   HULLPOSE_THROW_UNLESS(version.integer() == Rig::kFormatVersion,
@@ -133,6 +132,17 @@ Rig load_rig(const std::filesystem::path& path) {
     HULLPOSE_THROW(file << ": " << e.what());
   }
   return rig;
+}
+
+}  // namespace
+
+Rig load_rig(const std::filesystem::path& path) {
+  HULLPOSE_THROW_UNLESS(std::filesystem::exists(path), path.string() << ": rig file not found");
+  return read_rig(yaml::Document::load(path), path.string());
+}
+
+Rig parse_rig(const std::string& text, const std::string& name) {
+  return read_rig(yaml::Document::parse(text, name), name);
 }
 
 void save_rig(const Rig& rig, const std::filesystem::path& path) {

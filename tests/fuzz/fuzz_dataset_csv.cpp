@@ -1,5 +1,6 @@
-// Fuzz target: the dataset CSV readers (common/dataset.hpp: ground truth and estimates; the
-// first byte picks which) return records or throw hullpose::Error, for any bytes.
+// Fuzz target: the dataset CSV readers (common/dataset.hpp parse_ground_truth and
+// parse_estimates, which the read_* functions call with the file's text; the first byte picks
+// which) return records or throw hullpose::Error, for any bytes.
 #include <cstdint>
 #include <filesystem>
 
@@ -9,12 +10,12 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  const std::string path = hullpose::fuzz::input_file(data + 1, size - 1, ".csv");
+  const std::string text = hullpose::fuzz::text(data + 1, size - 1);
   try {
     if (data[0] & 1)
-      (void)hullpose::read_estimates(path);
+      (void)hullpose::parse_estimates(text, "fuzz.csv");
     else
-      (void)hullpose::read_ground_truth(path);
+      (void)hullpose::parse_ground_truth(text, "fuzz.csv");
   } catch (const hullpose::Error&) {
   }
   return 0;

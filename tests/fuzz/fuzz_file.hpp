@@ -1,28 +1,26 @@
 #pragma once
-// For fuzz targets of file readers: the input bytes as a file (in /dev/shm when there is one,
-// one per process and suffix), and the readers' contract: a reader returns or throws
-// hullpose::Error. Any other exception escapes LLVMFuzzerTestOneInput, which libFuzzer reports
-// as a crash, as it does a signal or a sanitizer finding.
-#include <unistd.h>
-
+// For fuzz targets of file readers, which fuzz each reader's parse-from-text entry (the file
+// readers are thin wrappers that read the file and call it), and the readers' contract: a reader
+// returns or throws hullpose::Error. Any other exception escapes LLVMFuzzerTestOneInput, which
+// libFuzzer reports as a crash, as it does a signal or a sanitizer finding.
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "hullpose/common/log.hpp"
+
 namespace hullpose::fuzz {
 
-inline std::string input_file(const uint8_t* data, size_t size, const std::string& suffix) {
-  static const std::filesystem::path dir =
-      std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
-  const std::string path =
-      (dir / ("hullpose-fuzz-" + std::to_string(::getpid()) + suffix)).string();
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) std::abort();
-  if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
-  std::fclose(f);
-  return path;
+inline std::string text(const uint8_t* data, size_t size) {
+  return {reinterpret_cast<const char*>(data), size};
+}
+
+// A reader's warnings (e.g. a repaired rotation) would go to stderr on every execution.
+inline void quiet_logs() {
+  static const bool once = (log::set_levels("*:off"), true);
+  (void)once;
 }
 
 inline std::vector<uint8_t> bytes_of(const std::string& s) {

@@ -1,5 +1,5 @@
-// Fuzz target: the dataset metadata reader (common/dataset.hpp read_meta, meta.json) returns
-// metadata or throws hullpose::Error, for any bytes.
+// Fuzz target: the dataset metadata reader (common/dataset.hpp parse_meta, which read_meta
+// calls with meta.json's text) returns metadata or throws hullpose::Error, for any bytes.
 #include <cstdint>
 #include <filesystem>
 
@@ -8,9 +8,8 @@
 #include "hullpose/common/dataset.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string path = hullpose::fuzz::input_file(data, size, ".meta.json");
   try {
-    (void)hullpose::read_meta(path);
+    (void)hullpose::parse_meta({reinterpret_cast<const char*>(data), size}, "fuzz.meta.json");
   } catch (const hullpose::Error&) {
   }
   return 0;

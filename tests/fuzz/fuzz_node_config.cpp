@@ -1,5 +1,6 @@
-// Fuzz target: the camera node's config reader (camera_node/config load_node_config) returns a
-// config or throws hullpose::Error, for any bytes.
+// Fuzz target: the camera node's config reader (camera_node/config parse_node_config, which
+// load_node_config calls with the file's text) returns a config or throws hullpose::Error, for
+// any bytes.
 #include <cstdint>
 
 #include "fuzz_file.hpp"
@@ -7,9 +8,9 @@
 #include "hullpose/common/check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string path = hullpose::fuzz::input_file(data, size, ".node.yaml");
   try {
-    (void)hullpose::camera_node::load_node_config(path);
+    (void)hullpose::camera_node::parse_node_config(hullpose::fuzz::text(data, size),
+                                                   "/nonexistent/fuzz.node.yaml");
   } catch (const hullpose::Error&) {
   }
   return 0;

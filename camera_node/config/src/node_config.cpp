@@ -107,15 +107,11 @@ void read_trigger(const yaml::Node& trigger, const std::filesystem::path& base_d
   t.clock_step_after = trigger.integer_or("clock_step_after", 0, 0, 1 << 30);
 }
 
-}  // namespace
-
-NodeConfig load_node_config(const std::filesystem::path& file) {
+NodeConfig read_node_config(const yaml::Document& doc, const std::filesystem::path& file) {
   NodeConfig c;
   c.file = file;
   c.base_dir = std::filesystem::absolute(file).parent_path();
   const std::string name = file.string();
-  HULLPOSE_THROW_UNLESS(std::filesystem::is_regular_file(file), name << ": config file not found");
-  const yaml::Document doc = yaml::Document::load(file);
   const yaml::Node root = doc.root();
 
   c.camera_id = static_cast<int>(root.need("camera_id").integer(0, 63));
@@ -142,6 +138,18 @@ NodeConfig load_node_config(const std::filesystem::path& file) {
     read_trigger(*trigger, c.base_dir, c.trigger);
   doc.check_all_read();
   return c;
+}
+
+}  // namespace
+
+NodeConfig load_node_config(const std::filesystem::path& file) {
+  HULLPOSE_THROW_UNLESS(std::filesystem::is_regular_file(file), file.string()
+                                                                    << ": config file not found");
+  return read_node_config(yaml::Document::load(file), file);
+}
+
+NodeConfig parse_node_config(const std::string& text, const std::filesystem::path& file) {
+  return read_node_config(yaml::Document::parse(text, file.string()), file);
 }
 
 }  // namespace hullpose::camera_node

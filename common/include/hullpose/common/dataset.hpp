@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hullpose/common/joints.hpp"
@@ -53,12 +54,16 @@ class DatasetPaths {
   std::filesystem::path root_;
 };
 
-// All readers throw hullpose::Error naming the file and line on bad content.
+// All readers throw hullpose::Error naming the file and line on bad content. Each parse_* reads
+// the file's text instead, `path` naming it in errors (the fuzz targets use them).
 void write_meta(const std::filesystem::path& path, const DatasetMeta& meta);
 DatasetMeta read_meta(const std::filesystem::path& path);
+DatasetMeta parse_meta(std::string_view text, const std::filesystem::path& path);
 
 void write_ground_truth(const std::filesystem::path& path, const std::vector<PoseRecord>& frames);
 std::vector<PoseRecord> read_ground_truth(const std::filesystem::path& path);
+std::vector<PoseRecord> parse_ground_truth(const std::string& text,
+                                           const std::filesystem::path& path);
 
 // Streams an estimate file frame by frame (the fusion host writes as it goes).
 class EstimateWriter {
@@ -72,5 +77,6 @@ class EstimateWriter {
   std::ofstream out_;
 };
 std::vector<PoseRecord> read_estimates(const std::filesystem::path& path);
+std::vector<PoseRecord> parse_estimates(const std::string& text, const std::filesystem::path& path);
 
 }  // namespace hullpose

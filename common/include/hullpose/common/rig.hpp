@@ -42,6 +42,8 @@ double repair_rotation(Eigen::Matrix3d& R);
 // Throws hullpose::Error naming the file, camera and field on any problem; the result is
 // validated. Rotations slightly off orthonormal are repaired (repair_rotation) with a warning.
 Rig load_rig(const std::filesystem::path& path);
+// The same from the file's text; `name` stands for the file in errors (fuzz_rig_reader).
+Rig parse_rig(const std::string& text, const std::string& name);
 // Validates, then writes; doubles are written so that load_rig(save_rig(r)) == r exactly.
 void save_rig(const Rig& rig, const std::filesystem::path& path);
 

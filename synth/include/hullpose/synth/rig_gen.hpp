@@ -14,7 +14,8 @@ struct RingRigSpec {
   int ring_cameras = 7;
   double radius_mm = 5000;  // ring radius, horizontal distance from the volume centre
   double height_mm = 2600;  // camera height above the floor
-  double tilt_deg = NAN;    // downward pitch; NaN = aim at the volume centre
+  double tilt_deg =
+      std::numeric_limits<double>::quiet_NaN();  // downward pitch; NaN = aim at the volume centre
   double azimuth0_deg = 0;  // azimuth of camera 0 (others follow anticlockwise)
   bool ceiling = true;      // add camera id ring_cameras at the ceiling, looking down
   double ceiling_height_mm = 5500;

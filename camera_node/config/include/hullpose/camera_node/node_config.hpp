@@ -1,11 +1,11 @@
 #pragma once
-// The configuration of one camera node, read from a YAML file (cv::FileStorage) and
+// The configuration of one camera node, read from a YAML file (common/yaml.hpp) and
 // validated at start: every error names the file and the field.
 //
 //   camera_id: 3
 //   rig_file: rig.yaml              # relative paths are relative to this file's folder
 //   source:                         # a frame-source backend (camera_node/source) and its
-//   parameters
+//                                   # parameters
 //     type: libcamera               # libcamera | v4l2 | file | synthetic
 //     exposure_us: 4000
 //   bgs:
@@ -22,13 +22,13 @@
 //   lcm:
 //     url: udpm://239.255.76.67:7667?ttl=1
 //     rig_key: /etc/hullpose/rig.key  # the rig's key: messages authenticated (docs/messages.md)
-//     queue_depth: 4                # silhouettes waiting for the network; more are dropped (counted)
+//     queue_depth: 4                # silhouettes waiting for the network; more: dropped, counted
 //     status_period_ms: 1000
 //   trigger:                        # optional: without it the node is free-running (trigger_seq =
 //                                   # the frame counter, unsynchronised with the other nodes)
 //     edges: gpiod                  # the trigger input: gpiod (the trigger GPIO; production) |
-//                                   # wire (hullpose-trigger-master --line wire:PATH; simulated
-//                                   rigs)
+//                                   # wire (hullpose-trigger-master --line wire:PATH;
+//                                   # simulated rigs)
 //     chip: gpiochip0               # gpiod: the chip (name, path or label) ...
 //     line: 17                      # ... and the input line's offset
 //     path: /run/hullpose/wire.sock # wire: the master's socket
@@ -36,7 +36,7 @@
 //     max_residual_us: 5000         # how far a frame's exposure may be from its edge
 //     wait_ms: 50                   # how long a frame waits for its edge's announcement
 //     connect_timeout_ms: 10000     # wire: how long start() waits for the master's socket
-//     clock_offset_ms: 0            # simulates a board whose clock is this far off (tests; 0 in production)
+//     clock_offset_ms: 0            # tests: a board whose clock is this far off (0 in production)
 //     clock_step_ms: 0              # tests: the board clock steps by this much (an NTP step) ...
 //     clock_step_after: 0           # ... once this many frames have been stamped
 // With a trigger, a camera that exposes on the trigger line (libcamera/v4l2 with external trigger)
@@ -112,5 +112,8 @@ struct NodeConfig {
 // and the field. Stage parameters are checked when the stages are built (CameraNode's constructor),
 // so that the whole configuration is validated before any device is opened.
 NodeConfig load_node_config(const std::filesystem::path& file);
+// The same from the file's text: `file` names it in errors and is the base of relative paths;
+// it is not read (a rig_key it names is). Used by fuzz_node_config.
+NodeConfig parse_node_config(const std::string& text, const std::filesystem::path& file);
 
 }  // namespace hullpose::camera_node
