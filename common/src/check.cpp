@@ -5,7 +5,9 @@
 
 namespace hullpose::detail {
 
-void throw_error(const std::string& message) { throw Error(message); }
+void throw_error(const std::string& message) {
+  throw Error(message);
+}
 
 void assert_failed(const char* expr, const char* file, int line) {
   std::fprintf(stderr, "hullpose: internal error: %s:%d: assertion failed: %s\n", file, line, expr);

@@ -46,7 +46,9 @@ void put_u16(uint8_t* p, int v) {
 void put_u32(uint8_t* p, uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
 }
-int get_u16(const uint8_t* p) { return p[0] | (p[1] << 8); }
+int get_u16(const uint8_t* p) {
+  return p[0] | (p[1] << 8);
+}
 uint32_t get_u32(const uint8_t* p) {
   return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
          static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
@@ -82,20 +84,34 @@ bool get_varint(const uint8_t*& p, const uint8_t* end, uint32_t& value) {
 
 const char* to_string(CodecError error) {
   switch (error) {
-    case CodecError::kNone: return "ok";
-    case CodecError::kTruncatedHeader: return "payload shorter than the 20-byte header";
-    case CodecError::kBadMagic: return "bad magic (not a hullpose silhouette)";
-    case CodecError::kUnsupportedVersion: return "unsupported codec version";
-    case CodecError::kBadFlags: return "unknown flags set";
-    case CodecError::kImageTooLarge: return "image size exceeds the decoder's limit";
-    case CodecError::kEmptyImage: return "image width or height is zero";
-    case CodecError::kRoiOutsideImage: return "ROI lies outside the image";
-    case CodecError::kTooManyRuns: return "run count exceeds what the ROI and payload can hold";
-    case CodecError::kTruncatedRuns: return "payload ends before the declared runs";
-    case CodecError::kBadVarint: return "malformed run length";
-    case CodecError::kRunsOverflowRoi: return "runs extend past the ROI";
-    case CodecError::kRunsUnderfillRoi: return "runs do not cover the ROI";
-    case CodecError::kTrailingBytes: return "bytes after the last run";
+    case CodecError::kNone:
+      return "ok";
+    case CodecError::kTruncatedHeader:
+      return "payload shorter than the 20-byte header";
+    case CodecError::kBadMagic:
+      return "bad magic (not a hullpose silhouette)";
+    case CodecError::kUnsupportedVersion:
+      return "unsupported codec version";
+    case CodecError::kBadFlags:
+      return "unknown flags set";
+    case CodecError::kImageTooLarge:
+      return "image size exceeds the decoder's limit";
+    case CodecError::kEmptyImage:
+      return "image width or height is zero";
+    case CodecError::kRoiOutsideImage:
+      return "ROI lies outside the image";
+    case CodecError::kTooManyRuns:
+      return "run count exceeds what the ROI and payload can hold";
+    case CodecError::kTruncatedRuns:
+      return "payload ends before the declared runs";
+    case CodecError::kBadVarint:
+      return "malformed run length";
+    case CodecError::kRunsOverflowRoi:
+      return "runs extend past the ROI";
+    case CodecError::kRunsUnderfillRoi:
+      return "runs do not cover the ROI";
+    case CodecError::kTrailingBytes:
+      return "bytes after the last run";
   }
   return "unknown codec error";
 }
@@ -197,7 +213,8 @@ CodecError decode_silhouette(std::span<const uint8_t> payload, const DecodeLimit
   uint64_t pos = 0;
   for (uint32_t i = 0; i < h.run_count; ++i) {
     uint32_t len = 0;
-    if (!get_varint(p, end, len)) return p == end ? CodecError::kTruncatedRuns : CodecError::kBadVarint;
+    if (!get_varint(p, end, len))
+      return p == end ? CodecError::kTruncatedRuns : CodecError::kBadVarint;
     if (len > area - pos) return CodecError::kRunsOverflowRoi;
     if (i & 1) {  // foreground run, possibly wrapping over ROI rows
       uint64_t remaining = len, at = pos;

@@ -11,7 +11,11 @@ int64_t read_us(clockid_t clock) {
 }
 }  // namespace
 
-int64_t monotonic_us() { return read_us(CLOCK_MONOTONIC); }
-int64_t realtime_utime() { return read_us(CLOCK_REALTIME); }
+int64_t monotonic_us() {
+  return read_us(CLOCK_MONOTONIC);
+}
+int64_t realtime_utime() {
+  return read_us(CLOCK_REALTIME);
+}
 
 }  // namespace hullpose

@@ -28,8 +28,9 @@ class Lexer {
   }
   Token next(const char* expecting) {
     skip_space();
-    HULLPOSE_THROW_UNLESS(pos_ < text_.size(),
-                          source_ << ":" << line_ << ": unexpected end of file, expecting " << expecting);
+    HULLPOSE_THROW_UNLESS(pos_ < text_.size(), source_ << ":" << line_
+                                                       << ": unexpected end of file, expecting "
+                                                       << expecting);
     const size_t start = pos_;
     while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
     return {text_.substr(start, pos_ - start), line_};
@@ -46,10 +47,11 @@ class Lexer {
   double parse(const Token& t, const std::string& what) const {
     double v = 0;
     const auto [end, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), v);
-    HULLPOSE_THROW_UNLESS(ec == std::errc() && end == t.text.data() + t.text.size(),
-                          source_ << ":" << t.line << ": " << what << ": '" << t.text << "' is not a number");
-    HULLPOSE_THROW_UNLESS(std::isfinite(v), source_ << ":" << t.line << ": " << what << " is not finite ('"
-                                                    << t.text << "')");
+    HULLPOSE_THROW_UNLESS(
+        ec == std::errc() && end == t.text.data() + t.text.size(),
+        source_ << ":" << t.line << ": " << what << ": '" << t.text << "' is not a number");
+    HULLPOSE_THROW_UNLESS(std::isfinite(v), source_ << ":" << t.line << ": " << what
+                                                    << " is not finite ('" << t.text << "')");
     return v;
   }
   // The rest of the current line (for the motion section, which is line-oriented).
@@ -98,24 +100,31 @@ BvhChannel channel_from(const Token& t, const std::string& joint, const std::str
       {"Yrotation", BvhChannel::Yrotation}, {"Zrotation", BvhChannel::Zrotation}};
   for (const auto& [name, ch] : kNames)
     if (t.text == name) return ch;
-  HULLPOSE_THROW(source << ":" << t.line << ": unknown channel '" << t.text << "' of joint " << joint);
+  HULLPOSE_THROW(source << ":" << t.line << ": unknown channel '" << t.text << "' of joint "
+                        << joint);
 }
 
 const char* channel_name(BvhChannel c) {
   switch (c) {
-    case BvhChannel::Xposition: return "Xposition";
-    case BvhChannel::Yposition: return "Yposition";
-    case BvhChannel::Zposition: return "Zposition";
-    case BvhChannel::Xrotation: return "Xrotation";
-    case BvhChannel::Yrotation: return "Yrotation";
-    case BvhChannel::Zrotation: return "Zrotation";
+    case BvhChannel::Xposition:
+      return "Xposition";
+    case BvhChannel::Yposition:
+      return "Yposition";
+    case BvhChannel::Zposition:
+      return "Zposition";
+    case BvhChannel::Xrotation:
+      return "Xrotation";
+    case BvhChannel::Yrotation:
+      return "Yrotation";
+    case BvhChannel::Zrotation:
+      return "Zrotation";
   }
   return "?";
 }
 
 // Parses "{ OFFSET ... [CHANNELS ...] (JOINT ...| End Site ...)* }" for the joint just named.
-void parse_joint(Lexer& lx, BvhClip& clip, const std::string& name, int parent, int line, bool end_site,
-                 int depth) {
+void parse_joint(Lexer& lx, BvhClip& clip, const std::string& name, int parent, int line,
+                 bool end_site, int depth) {
   HULLPOSE_THROW_UNLESS(depth < 256, lx.source() << ":" << line << ": hierarchy nested too deeply");
   const int index = static_cast<int>(clip.joints.size());
   clip.joints.push_back({name, parent, Eigen::Vector3d::Zero(), {}, clip.channel_count, line});
@@ -132,22 +141,24 @@ void parse_joint(Lexer& lx, BvhClip& clip, const std::string& name, int parent, 
                                                    << " cannot have channels");
       const double n = lx.number(("channel count of joint " + name).c_str());
       HULLPOSE_THROW_UNLESS(n >= 0 && n <= 6 && n == std::floor(n),
-                            lx.source() << ":" << t.line << ": joint " << name << ": channel count " << n
-                                        << " must be 0..6");
+                            lx.source() << ":" << t.line << ": joint " << name << ": channel count "
+                                        << n << " must be 0..6");
       auto& joint = clip.joints[static_cast<size_t>(index)];
       joint.first_channel = clip.channel_count;
       for (int i = 0; i < static_cast<int>(n); ++i)
         joint.channels.push_back(channel_from(lx.next("a channel name"), name, lx.source()));
       clip.channel_count += static_cast<int>(n);
     } else if (t.text == "JOINT") {
-      HULLPOSE_THROW_UNLESS(!end_site, lx.source() << ":" << t.line << ": End Site cannot have children");
+      HULLPOSE_THROW_UNLESS(!end_site, lx.source()
+                                           << ":" << t.line << ": End Site cannot have children");
       const Token child = lx.next("a joint name");
       parse_joint(lx, clip, std::string(child.text), index, child.line, false, depth + 1);
     } else if (t.text == "End") {
       lx.expect("Site");
       parse_joint(lx, clip, name + "_End", index, t.line, true, depth + 1);
     } else {
-      HULLPOSE_THROW(lx.source() << ":" << t.line << ": unexpected '" << t.text << "' in joint " << name);
+      HULLPOSE_THROW(lx.source() << ":" << t.line << ": unexpected '" << t.text << "' in joint "
+                                 << name);
     }
   }
 }
@@ -165,7 +176,9 @@ void BvhClip::forward_kinematics(int frame, std::vector<Eigen::Matrix3d>& rotati
   HULLPOSE_ASSERT(frame >= -1 && frame < frames);
   rotation.resize(joints.size());
   position.resize(joints.size());
-  const double* row = frame >= 0 ? &motion[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)] : nullptr;
+  const double* row = frame >= 0
+                          ? &motion[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)]
+                          : nullptr;
   for (size_t i = 0; i < joints.size(); ++i) {
     const BvhJoint& j = joints[i];
     Eigen::Matrix3d local = Eigen::Matrix3d::Identity();
@@ -175,13 +188,25 @@ void BvhClip::forward_kinematics(int frame, std::vector<Eigen::Matrix3d>& rotati
         const double v = row[j.first_channel + static_cast<int>(c)];
         const double rad = v * M_PI / 180.0;
         switch (j.channels[c]) {
-          case BvhChannel::Xposition: translation.x() += v; break;
-          case BvhChannel::Yposition: translation.y() += v; break;
-          case BvhChannel::Zposition: translation.z() += v; break;
+          case BvhChannel::Xposition:
+            translation.x() += v;
+            break;
+          case BvhChannel::Yposition:
+            translation.y() += v;
+            break;
+          case BvhChannel::Zposition:
+            translation.z() += v;
+            break;
           // Rotations compose in the listed order (intrinsic): ZYX gives Rz * Ry * Rx.
-          case BvhChannel::Xrotation: local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitX()); break;
-          case BvhChannel::Yrotation: local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitY()); break;
-          case BvhChannel::Zrotation: local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitZ()); break;
+          case BvhChannel::Xrotation:
+            local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitX());
+            break;
+          case BvhChannel::Yrotation:
+            local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitY());
+            break;
+          case BvhChannel::Zrotation:
+            local = local * Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitZ());
+            break;
         }
       }
     }
@@ -216,8 +241,9 @@ BvhClip parse_bvh(std::string_view text, const std::string& source) {
   lx.expect("Time:");
   const Token ft = lx.next("the frame time");
   clip.frame_time_s = lx.parse(ft, "frame time");
-  HULLPOSE_THROW_UNLESS(clip.frame_time_s > 1e-5 && clip.frame_time_s < 10,
-                        source << ":" << ft.line << ": frame time " << ft.text << " s is out of range");
+  HULLPOSE_THROW_UNLESS(
+      clip.frame_time_s > 1e-5 && clip.frame_time_s < 10,
+      source << ":" << ft.line << ": frame time " << ft.text << " s is out of range");
   lx.finish_line();
   clip.frames = static_cast<int>(frames);
 
@@ -227,8 +253,8 @@ BvhClip parse_bvh(std::string_view text, const std::string& source) {
     for (BvhChannel c : j.channels) owner.emplace_back(&j, c);
 
   // Every value takes at least two bytes of text: a lying frame count cannot reserve more.
-  clip.motion.reserve(std::min(static_cast<size_t>(clip.frames) * static_cast<size_t>(clip.channel_count),
-                               text.size() / 2));
+  clip.motion.reserve(std::min(
+      static_cast<size_t>(clip.frames) * static_cast<size_t>(clip.channel_count), text.size() / 2));
   std::string_view line;
   int line_no = 0;
   int read = 0;
@@ -237,20 +263,24 @@ BvhClip parse_bvh(std::string_view text, const std::string& source) {
     if (ll.at_end()) continue;  // blank line
     for (int c = 0; c < clip.channel_count; ++c) {
       const auto& [joint, channel] = owner[static_cast<size_t>(c)];
-      const std::string what = "frame " + std::to_string(read + 1) + ", joint " + joint->name + " " + channel_name(channel);
-      HULLPOSE_THROW_UNLESS(!ll.at_end(), source << ":" << line_no << ": " << what << ": value missing (line has "
-                                                 << c << " of " << clip.channel_count << " values)");
+      const std::string what = "frame " + std::to_string(read + 1) + ", joint " + joint->name +
+                               " " + channel_name(channel);
+      HULLPOSE_THROW_UNLESS(!ll.at_end(), source << ":" << line_no << ": " << what
+                                                 << ": value missing (line has " << c << " of "
+                                                 << clip.channel_count << " values)");
       Token t = ll.next("a value");
       t.line = line_no;
       clip.motion.push_back(ll.parse(t, what));
     }
-    HULLPOSE_THROW_UNLESS(ll.at_end(), source << ":" << line_no << ": more than " << clip.channel_count
-                                              << " values on a motion line");
+    HULLPOSE_THROW_UNLESS(ll.at_end(), source << ":" << line_no << ": more than "
+                                              << clip.channel_count << " values on a motion line");
     ++read;
   }
-  HULLPOSE_THROW_UNLESS(read == clip.frames, source << ":" << line_no << ": truncated motion: the header says "
-                                                    << clip.frames << " frames, the file holds " << read);
-  HULLPOSE_THROW_UNLESS(lx.at_end(), source << ": text after the last of " << clip.frames << " motion frames");
+  HULLPOSE_THROW_UNLESS(read == clip.frames,
+                        source << ":" << line_no << ": truncated motion: the header says "
+                               << clip.frames << " frames, the file holds " << read);
+  HULLPOSE_THROW_UNLESS(lx.at_end(),
+                        source << ": text after the last of " << clip.frames << " motion frames");
   return clip;
 }
 

@@ -16,8 +16,10 @@ HULLPOSE_LOG_CATEGORY(Synth, "synth")
 
 namespace {
 
-void write_png(const std::filesystem::path& path, const cv::Mat& image, const std::vector<int>& params) {
-  HULLPOSE_THROW_UNLESS(cv::imwrite(path.string(), image, params), path.string() << ": cannot write image");
+void write_png(const std::filesystem::path& path, const cv::Mat& image,
+               const std::vector<int>& params) {
+  HULLPOSE_THROW_UNLESS(cv::imwrite(path.string(), image, params), path.string()
+                                                                       << ": cannot write image");
 }
 
 // Everything one camera needs while frames are rendered in parallel across cameras.
@@ -36,7 +38,8 @@ struct CameraJob {
 SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int, int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   HULLPOSE_THROW_UNLESS(!cfg.out.empty(), "no output directory given");
-  HULLPOSE_THROW_UNLESS(cfg.fps > 0 && cfg.fps <= 1000, "frame rate " << cfg.fps << " must be in (0, 1000]");
+  HULLPOSE_THROW_UNLESS(cfg.fps > 0 && cfg.fps <= 1000,
+                        "frame rate " << cfg.fps << " must be in (0, 1000]");
   HULLPOSE_THROW_UNLESS(cfg.frames >= 0, "frame count must not be negative");
   const Rig rig = rig_from_name_or_file(cfg.rig);
 
@@ -48,15 +51,17 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   const bool endless = !std::isfinite(motion->duration_s());
   const int clip_frames = endless ? 0 : motion->frame_count(cfg.fps);
   const int frames = cfg.frames > 0 ? cfg.frames : (endless ? 300 : clip_frames);
-  HULLPOSE_THROW_UNLESS(endless || frames <= clip_frames, motion->name() << " has " << clip_frames << " frames at "
-                                                                         << cfg.fps << " fps, " << frames << " asked for");
+  HULLPOSE_THROW_UNLESS(endless || frames <= clip_frames,
+                        motion->name() << " has " << clip_frames << " frames at " << cfg.fps
+                                       << " fps, " << frames << " asked for");
   BodyShape body = cfg.body;
   body.stature_mm = motion->stature_mm();
 
   const DatasetPaths paths(cfg.out);
   std::error_code ec;
   std::filesystem::create_directories(cfg.out, ec);
-  HULLPOSE_THROW_UNLESS(!ec, cfg.out.string() << ": cannot create the dataset directory: " << ec.message());
+  HULLPOSE_THROW_UNLESS(!ec, cfg.out.string()
+                                 << ": cannot create the dataset directory: " << ec.message());
   const Rig written = perturb_calibration(rig, cfg.faults, cfg.seed);
   save_rig(written, paths.rig());
   if (!(written == rig)) save_rig(rig, cfg.out / "rig_true.yaml");
@@ -81,18 +86,20 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   }
   write_ground_truth(paths.ground_truth(), truth);
 
-  const std::unique_ptr<Scene> scene = cfg.rgb ? std::make_unique<Scene>(cfg.scene, cfg.seed) : nullptr;
+  const std::unique_ptr<Scene> scene =
+      cfg.rgb ? std::make_unique<Scene>(cfg.scene, cfg.seed) : nullptr;
   std::vector<std::unique_ptr<CameraJob>> jobs;
   for (const auto& c : rig.cameras) {
     std::filesystem::create_directories(paths.camera_dir(c.id), ec);
-    HULLPOSE_THROW_UNLESS(!ec, paths.camera_dir(c.id).string() << ": cannot create: " << ec.message());
+    HULLPOSE_THROW_UNLESS(!ec, paths.camera_dir(c.id).string()
+                                   << ": cannot create: " << ec.message());
     jobs.push_back(std::make_unique<CameraJob>(c.id, c));
   }
   // Noisy colour frames gain little from LZ77 matching: Huffman-only is faster and smaller.
-  const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression, cv::IMWRITE_PNG_STRATEGY,
-                                cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
-  const std::vector<int> png_mask = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression, cv::IMWRITE_PNG_STRATEGY,
-                                     cv::IMWRITE_PNG_STRATEGY_RLE};
+  const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression,
+                                cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
+  const std::vector<int> png_mask = {cv::IMWRITE_PNG_COMPRESSION, cfg.png_compression,
+                                     cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE};
   const int n = static_cast<int>(jobs.size());
   // Cameras in parallel; the first error (e.g. a full disk) is rethrown here, on this thread.
   auto for_each_camera = [&](const std::function<void(CameraJob&)>& work) {
@@ -112,7 +119,8 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   };
   if (scene) {
     for_each_camera([&](CameraJob& job) {
-      job.colour = std::make_unique<CameraRenderer>(*motion, body, *rig.find(job.id), *scene, cfg.fps);
+      job.colour =
+          std::make_unique<CameraRenderer>(*motion, body, *rig.find(job.id), *scene, cfg.fps);
       for (int k = 0; k < cfg.backgrounds; ++k) {
         job.colour->render_background(k, job.bgr);
         write_png(paths.background(job.id, k), job.bgr, png);
@@ -166,8 +174,8 @@ SynthSummary write_dataset(const SynthConfig& cfg, const std::function<void(int,
   s.stature_mm = motion->stature_mm();
   s.motion = motion->name();
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  HULLPOSE_LOG(Synth, Debug) << cfg.out.string() << ": " << frames << " frames x " << n << " cameras of "
-                            << motion->name() << " in " << s.seconds << " s";
+  HULLPOSE_LOG(Synth, Debug) << cfg.out.string() << ": " << frames << " frames x " << n
+                             << " cameras of " << motion->name() << " in " << s.seconds << " s";
   return s;
 }
 

@@ -28,38 +28,91 @@ using JointMap = std::array<JointSource, kNumJoints>;
 // Order: HeadTop Head Neck Chest LSho RSho LElb RElb LHand RHand LFTip RFTip UBack Back LBack
 //        LHip RHip LKne RKne LAnk RAnk LFoot RFoot LToe RToe.
 const JointMap& scheme_map(BvhScheme s) {
-  static const JointMap a = {{{"Head_End", nullptr, 0, {0, 0, 0}, 1.0}, {"Head"}, {"Neck1"}, {"Spine1"},
-                              {"LeftArm"}, {"RightArm"}, {"LeftForeArm"}, {"RightForeArm"},
-                              {"LeftHand"}, {"RightHand"}, {"LeftHandIndex1_End", nullptr, 0, {0, 0, 0}, 0.8},
+  static const JointMap a = {{{"Head_End", nullptr, 0, {0, 0, 0}, 1.0},
+                              {"Head"},
+                              {"Neck1"},
+                              {"Spine1"},
+                              {"LeftArm"},
+                              {"RightArm"},
+                              {"LeftForeArm"},
+                              {"RightForeArm"},
+                              {"LeftHand"},
+                              {"RightHand"},
+                              {"LeftHandIndex1_End", nullptr, 0, {0, 0, 0}, 0.8},
                               {"RightHandIndex1_End", nullptr, 0, {0, 0, 0}, 0.8},
-                              {"Spine", "Spine1", 1.0 / 3}, {"LowerBack", "Spine", 2.0 / 3}, {"Hips"},
-                              {"LeftUpLeg"}, {"RightUpLeg"}, {"LeftLeg"}, {"RightLeg"},
-                              {"LeftFoot"}, {"RightFoot"}, {"LeftToeBase"}, {"RightToeBase"},
+                              {"Spine", "Spine1", 1.0 / 3},
+                              {"LowerBack", "Spine", 2.0 / 3},
+                              {"Hips"},
+                              {"LeftUpLeg"},
+                              {"RightUpLeg"},
+                              {"LeftLeg"},
+                              {"RightLeg"},
+                              {"LeftFoot"},
+                              {"RightFoot"},
+                              {"LeftToeBase"},
+                              {"RightToeBase"},
                               {"LeftToeBase_End", nullptr, 0, {0, 0, 0}, 0.5},
                               {"RightToeBase_End", nullptr, 0, {0, 0, 0}, 0.5}}};
-  static const JointMap b = {{{"Head_End", nullptr, 0, {0, 0, 0}, 1.0}, {"Head"}, {"Neck"}, {"Chest2"},
-                              {"LeftShoulder"}, {"RightShoulder"}, {"LeftElbow"}, {"RightElbow"},
-                              {"LeftWrist"}, {"RightWrist"}, {"LFingers_End", nullptr, 0, {0, 0, 0}, 0.8}, {"RFingers_End", nullptr, 0, {0, 0, 0}, 0.8},
-                              {"Chest", "Chest2", 1.0 / 3}, {"lowerback", "Chest", 2.0 / 3}, {"Hips"},
-                              {"LeftHip"}, {"RightHip"}, {"LeftKnee"}, {"RightKnee"},
-                              {"LeftAnkle"}, {"RightAnkle"}, {"LeftToe"}, {"RightToe"},
-                              {"LeftToe_End", nullptr, 0, {0, 0, 0}, 0.5}, {"RightToe_End", nullptr, 0, {0, 0, 0}, 0.5}}};
+  static const JointMap b = {{{"Head_End", nullptr, 0, {0, 0, 0}, 1.0},
+                              {"Head"},
+                              {"Neck"},
+                              {"Chest2"},
+                              {"LeftShoulder"},
+                              {"RightShoulder"},
+                              {"LeftElbow"},
+                              {"RightElbow"},
+                              {"LeftWrist"},
+                              {"RightWrist"},
+                              {"LFingers_End", nullptr, 0, {0, 0, 0}, 0.8},
+                              {"RFingers_End", nullptr, 0, {0, 0, 0}, 0.8},
+                              {"Chest", "Chest2", 1.0 / 3},
+                              {"lowerback", "Chest", 2.0 / 3},
+                              {"Hips"},
+                              {"LeftHip"},
+                              {"RightHip"},
+                              {"LeftKnee"},
+                              {"RightKnee"},
+                              {"LeftAnkle"},
+                              {"RightAnkle"},
+                              {"LeftToe"},
+                              {"RightToe"},
+                              {"LeftToe_End", nullptr, 0, {0, 0, 0}, 0.5},
+                              {"RightToe_End", nullptr, 0, {0, 0, 0}, 0.5}}};
   // Scheme C has no head end site and no toe joint: Head and HeadTop are points on the head's
   // axis (65 and 135 mm-equivalents above the head joint, i.e. eye level and crown), LFoot is
   // two thirds of the way from the ankle to the toe tip.
   static const JointMap c = {{{"head", nullptr, 0, Eigen::Vector3d(0, 0.135, 0)},
                               {"head", nullptr, 0, Eigen::Vector3d(0, 0.065, 0)},
-                              {"head"}, {"neck"},
-                              {"lShldr"}, {"rShldr"}, {"lForeArm"}, {"rForeArm"},
-                              {"lHand"}, {"rHand"}, {"lMid2_End"}, {"rMid2_End"},
-                              {"chest"}, {"abdomen"}, {"hip"},
-                              {"lThigh"}, {"rThigh"}, {"lShin"}, {"rShin"},
-                              {"lFoot"}, {"rFoot"}, {"lFoot", "lFoot_End", 2.0 / 3}, {"rFoot", "rFoot_End", 2.0 / 3},
-                              {"lFoot_End"}, {"rFoot_End"}}};
+                              {"head"},
+                              {"neck"},
+                              {"lShldr"},
+                              {"rShldr"},
+                              {"lForeArm"},
+                              {"rForeArm"},
+                              {"lHand"},
+                              {"rHand"},
+                              {"lMid2_End"},
+                              {"rMid2_End"},
+                              {"chest"},
+                              {"abdomen"},
+                              {"hip"},
+                              {"lThigh"},
+                              {"rThigh"},
+                              {"lShin"},
+                              {"rShin"},
+                              {"lFoot"},
+                              {"rFoot"},
+                              {"lFoot", "lFoot_End", 2.0 / 3},
+                              {"rFoot", "rFoot_End", 2.0 / 3},
+                              {"lFoot_End"},
+                              {"rFoot_End"}}};
   switch (s) {
-    case BvhScheme::A: return a;
-    case BvhScheme::B: return b;
-    case BvhScheme::C: return c;
+    case BvhScheme::A:
+      return a;
+    case BvhScheme::B:
+      return b;
+    case BvhScheme::C:
+      return c;
   }
   return a;
 }
@@ -70,7 +123,9 @@ struct ResolvedSource {
 };
 
 // BVH is y up; the rig is z up: (x, y, z)_bvh -> (x, -z, y)_rig, a proper rotation.
-Eigen::Vector3d to_rig(const Eigen::Vector3d& v) { return {v.x(), -v.z(), v.y()}; }
+Eigen::Vector3d to_rig(const Eigen::Vector3d& v) {
+  return {v.x(), -v.z(), v.y()};
+}
 
 class BvhMotion final : public Motion {
  public:
@@ -103,9 +158,12 @@ double lowest_sole(const BodyShape& body, const JointPositions& p) {
 
 const char* scheme_name(BvhScheme s) {
   switch (s) {
-    case BvhScheme::A: return "A (CMU/MotionBuilder)";
-    case BvhScheme::B: return "B (CMU/3dsMax)";
-    case BvhScheme::C: return "C (DAZ/Poser)";
+    case BvhScheme::A:
+      return "A (CMU/MotionBuilder)";
+    case BvhScheme::B:
+      return "B (CMU/3dsMax)";
+    case BvhScheme::C:
+      return "C (DAZ/Poser)";
   }
   return "?";
 }
@@ -114,8 +172,9 @@ BvhScheme detect_scheme(const BvhClip& clip) {
   if (clip.find("LeftUpLeg") >= 0) return BvhScheme::A;
   if (clip.find("LeftKnee") >= 0) return BvhScheme::B;
   if (clip.find("lThigh") >= 0) return BvhScheme::C;
-  HULLPOSE_THROW(clip.source << ": unknown joint naming scheme (none of LeftUpLeg (A), LeftKnee (B), "
-                                "lThigh (C) is in the hierarchy)");
+  HULLPOSE_THROW(
+      clip.source << ": unknown joint naming scheme (none of LeftUpLeg (A), LeftKnee (B), "
+                     "lThigh (C) is in the hierarchy)");
 }
 
 int Motion::frame_count(double fps) const {
@@ -134,18 +193,20 @@ std::unique_ptr<Motion> make_bvh_motion(const BvhClip& clip, const MotionOptions
     const JointSource& s = map[k];
     int j = clip.find(s.joint);
     HULLPOSE_THROW_UNLESS(j >= 0, clip.source << ": missing joint '" << s.joint << "' (needed for "
-                                              << kJointNames[k] << ", naming scheme " << scheme_name(scheme) << ")");
+                                              << kJointNames[k] << ", naming scheme "
+                                              << scheme_name(scheme) << ")");
     Eigen::Vector3d local = s.local;
     const BvhJoint& named = clip.joints[static_cast<size_t>(j)];
-    if (s.if_zero > 0 && named.channels.empty() && named.offset.norm() < 1e-6 && named.parent >= 0) {
+    if (s.if_zero > 0 && named.channels.empty() && named.offset.norm() < 1e-6 &&
+        named.parent >= 0) {
       j = named.parent;
       local = s.if_zero * clip.joints[static_cast<size_t>(j)].offset;
     }
     if (s.toward) {
       const int t = clip.find(s.toward);
       HULLPOSE_THROW_UNLESS(t >= 0 && clip.joints[static_cast<size_t>(t)].parent == j,
-                            clip.source << ": missing joint '" << s.toward << "' as a child of '" << s.joint
-                                        << "' (needed for " << kJointNames[k] << ")");
+                            clip.source << ": missing joint '" << s.toward << "' as a child of '"
+                                        << s.joint << "' (needed for " << kJointNames[k] << ")");
       local += s.fraction * clip.joints[static_cast<size_t>(t)].offset;
     }
     src[k] = {j, local};
@@ -171,17 +232,20 @@ std::unique_ptr<Motion> make_bvh_motion(const BvhClip& clip, const MotionOptions
   joints_at(-1, rest);
   auto at = [&](Joint j) -> const Eigen::Vector3d& { return rest[static_cast<size_t>(index(j))]; };
   const double upper = at(Joint::HeadTop).z() - 0.5 * (at(Joint::LHip).z() + at(Joint::RHip).z());
-  const double legs = 0.5 * ((at(Joint::LHip) - at(Joint::LKne)).norm() + (at(Joint::LKne) - at(Joint::LAnk)).norm() +
-                             (at(Joint::RHip) - at(Joint::RKne)).norm() + (at(Joint::RKne) - at(Joint::RAnk)).norm());
+  const double legs =
+      0.5 *
+      ((at(Joint::LHip) - at(Joint::LKne)).norm() + (at(Joint::LKne) - at(Joint::LAnk)).norm() +
+       (at(Joint::RHip) - at(Joint::RKne)).norm() + (at(Joint::RKne) - at(Joint::RAnk)).norm());
   double ankle_to_joint = 0;
   for (Joint j : {Joint::LFoot, Joint::LToe})
     ankle_to_joint = std::max(ankle_to_joint, at(Joint::LAnk).z() - at(j).z());
   BodyShape body;
   body.build = options.build;
   body.stature_mm = upper + legs + ankle_to_joint;
-  const double ankle_to_sole = std::max({body.sole_radius_mm(Joint::LAnk), at(Joint::LAnk).z() - at(Joint::LFoot).z() +
-                                         body.sole_radius_mm(Joint::LFoot), at(Joint::LAnk).z() - at(Joint::LToe).z() +
-                                         body.sole_radius_mm(Joint::LToe)});
+  const double ankle_to_sole =
+      std::max({body.sole_radius_mm(Joint::LAnk),
+                at(Joint::LAnk).z() - at(Joint::LFoot).z() + body.sole_radius_mm(Joint::LFoot),
+                at(Joint::LAnk).z() - at(Joint::LToe).z() + body.sole_radius_mm(Joint::LToe)});
   const double stature = upper + legs + ankle_to_sole;
   HULLPOSE_THROW_UNLESS(stature > 500 && stature < 2600,
                         clip.source << ": rest-pose stature " << stature << " mm at " << mm
@@ -203,21 +267,23 @@ std::unique_ptr<Motion> make_bvh_motion(const BvhClip& clip, const MotionOptions
   }
   // The middle of the space the joints sweep goes to the centre; the lowest sole touches the floor.
   const Eigen::Vector2d mid_xy = 0.5 * (lo_xy + hi_xy);
-  const Eigen::Vector3d shift(options.centre_mm.x() - mid_xy.x(), options.centre_mm.y() - mid_xy.y(),
-                              options.centre_mm.z() - floor);
+  const Eigen::Vector3d shift(options.centre_mm.x() - mid_xy.x(),
+                              options.centre_mm.y() - mid_xy.y(), options.centre_mm.z() - floor);
   for (auto& p : frames)
     for (auto& j : p) j += shift;
-  return std::make_unique<BvhMotion>(std::filesystem::path(clip.source).filename().string(), stature,
-                                     clip.frame_time_s, std::move(frames));
+  return std::make_unique<BvhMotion>(std::filesystem::path(clip.source).filename().string(),
+                                     stature, clip.frame_time_s, std::move(frames));
 }
 
-std::unique_ptr<Motion> load_bvh_motion(const std::filesystem::path& path, const MotionOptions& options) {
+std::unique_ptr<Motion> load_bvh_motion(const std::filesystem::path& path,
+                                        const MotionOptions& options) {
   return make_bvh_motion(load_bvh(path), options);
 }
 
 std::unique_ptr<Motion> make_motion(const std::string& spec, const MotionOptions& options) {
   std::string ext = std::filesystem::path(spec).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (ext == ".bvh") return load_bvh_motion(spec, options);
   return make_builtin_motion(spec, options);
 }

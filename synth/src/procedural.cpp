@@ -22,13 +22,34 @@ using Eigen::Vector3d;
 // shank back, ankle flexion lifts the toes; shoulder abduction raises the arm sideways (pi/2 =
 // T-pose), shoulder flexion raises it forwards.
 enum P : int {
-  kX, kY, kYaw, kLift, kLean, kTwist, kNod,
-  kLHipFlex, kLHipAbd, kLKnee, kLAnkle, kRHipFlex, kRHipAbd, kRKnee, kRAnkle,
-  kLShoAbd, kLShoFlex, kLElbow, kRShoAbd, kRShoFlex, kRElbow, kCount
+  kX,
+  kY,
+  kYaw,
+  kLift,
+  kLean,
+  kTwist,
+  kNod,
+  kLHipFlex,
+  kLHipAbd,
+  kLKnee,
+  kLAnkle,
+  kRHipFlex,
+  kRHipAbd,
+  kRKnee,
+  kRAnkle,
+  kLShoAbd,
+  kLShoFlex,
+  kLElbow,
+  kRShoAbd,
+  kRShoFlex,
+  kRElbow,
+  kCount
 };
 using Pose = std::array<double, kCount>;
 
-double bone(double stature, int i) { return kBones[static_cast<size_t>(i)].stature_ratio * stature; }
+double bone(double stature, int i) {
+  return kBones[static_cast<size_t>(i)].stature_ratio * stature;
+}
 
 class Body {
  public:
@@ -51,7 +72,8 @@ class Body {
     const double s = shape_.stature_mm * scale_;
     auto at = [&](Joint j) -> Vector3d& { return out[static_cast<size_t>(index(j))]; };
     const Matrix3d yaw(AngleAxisd(q[kYaw], Vector3d::UnitZ()));
-    const Matrix3d torso = yaw * AngleAxisd(q[kTwist], Vector3d::UnitZ()) * AngleAxisd(q[kLean], Vector3d::UnitY());
+    const Matrix3d torso =
+        yaw * AngleAxisd(q[kTwist], Vector3d::UnitZ()) * AngleAxisd(q[kLean], Vector3d::UnitY());
     const Matrix3d head = torso * AngleAxisd(q[kNod], Vector3d::UnitY());
     const Vector3d up = Vector3d::UnitZ();
 
@@ -68,7 +90,8 @@ class Body {
       const Vector3d sho_dir = Vector3d(0, side * 0.97, -0.24).normalized();
       const Vector3d sho = at(Joint::Chest) + torso * sho_dir * bone(s, 3);
       const double abd = q[left ? kLShoAbd : kRShoAbd], flex = q[left ? kLShoFlex : kRShoFlex];
-      const Vector3d upper = AngleAxisd(side * abd, Vector3d::UnitX()) * (AngleAxisd(-flex, Vector3d::UnitY()) * -up);
+      const Vector3d upper =
+          AngleAxisd(side * abd, Vector3d::UnitX()) * (AngleAxisd(-flex, Vector3d::UnitY()) * -up);
       const Vector3d axis = upper.cross(Vector3d(1, 0, 0.5)).normalized();
       const Vector3d fore = AngleAxisd(q[left ? kLElbow : kRElbow], axis) * upper;
       const Vector3d elb = sho + torso * upper * bone(s, 5);
@@ -84,8 +107,8 @@ class Body {
       const Matrix3d abd_rot(AngleAxisd(side * habd, Vector3d::UnitX()));
       const Vector3d thigh = abd_rot * (AngleAxisd(-hflex, Vector3d::UnitY()) * -up);
       const Vector3d shank = abd_rot * (AngleAxisd(-(hflex - knee), Vector3d::UnitY()) * -up);
-      const Vector3d foot =
-          abd_rot * (AngleAxisd(-(hflex - knee + ankle), Vector3d::UnitY()) * Vector3d(0.94, 0, -0.34).normalized());
+      const Vector3d foot = abd_rot * (AngleAxisd(-(hflex - knee + ankle), Vector3d::UnitY()) *
+                                       Vector3d(0.94, 0, -0.34).normalized());
       const Vector3d kne = hip + yaw * thigh * bone(s, 16);
       const Vector3d ank = kne + yaw * shank * bone(s, 18);
       const Vector3d ball = ank + yaw * foot * bone(s, 20);
@@ -93,7 +116,8 @@ class Body {
       at(left ? Joint::LKne : Joint::RKne) = kne;
       at(left ? Joint::LAnk : Joint::RAnk) = ank;
       at(left ? Joint::LFoot : Joint::RFoot) = ball;
-      at(left ? Joint::LToe : Joint::RToe) = ball + yaw * Vector3d(foot.x(), foot.y(), 0).normalized() * bone(s, 22);
+      at(left ? Joint::LToe : Joint::RToe) =
+          ball + yaw * Vector3d(foot.x(), foot.y(), 0).normalized() * bone(s, 22);
     }
     const double z = grounded ? q[kLift] - lowest_sole(out) : 0.0;
     for (auto& p : out) p += Vector3d(q[kX], q[kY], z);
@@ -138,8 +162,12 @@ Pose keyframes(const std::vector<std::pair<double, Pose>>& keys, double u) {
 class ProceduralMotion final : public Motion {
  public:
   using Driver = std::function<Pose(double t)>;
-  ProceduralMotion(std::string name, double stature, double build, Eigen::Vector3d centre, Driver driver)
-      : Motion(std::move(name), stature), body_(stature, build), centre_(centre), driver_(std::move(driver)) {}
+  ProceduralMotion(std::string name, double stature, double build, Eigen::Vector3d centre,
+                   Driver driver)
+      : Motion(std::move(name), stature),
+        body_(stature, build),
+        centre_(centre),
+        driver_(std::move(driver)) {}
   double duration_s() const override { return std::numeric_limits<double>::infinity(); }
   void sample(double t_s, JointPositions& out) const override {
     Pose q = driver_(std::max(0.0, t_s));
@@ -163,8 +191,8 @@ Pose standing() {
 }
 
 // Gait around a circle (so the subject stays in the capture volume): phase from cadence.
-ProceduralMotion::Driver gait(double v_mm_s, double stride_mm, double radius_mm, double leg_mm, bool run,
-                              double stature) {
+ProceduralMotion::Driver gait(double v_mm_s, double stride_mm, double radius_mm, double leg_mm,
+                              bool run, double stature) {
   const double amp = std::asin(std::min(0.9, 0.5 * stride_mm / leg_mm)) * (run ? 1.0 : 0.9);
   return [=](double t) {
     const double phi = M_PI * v_mm_s / stride_mm * t;  // one gait cycle = two steps
@@ -193,7 +221,8 @@ ProceduralMotion::Driver gait(double v_mm_s, double stride_mm, double radius_mm,
 }  // namespace
 
 const std::vector<std::string>& builtin_motion_names() {
-  static const std::vector<std::string> names = {"walk", "run", "jump", "crouch", "turn", "wave", "tpose"};
+  static const std::vector<std::string> names = {"walk", "run",  "jump", "crouch",
+                                                 "turn", "wave", "tpose"};
   return names;
 }
 
@@ -201,7 +230,8 @@ std::unique_ptr<Motion> make_builtin_motion(const std::string& name, const Motio
   HULLPOSE_THROW_UNLESS(o.stature_mm >= 800 && o.stature_mm <= 2300,
                         "stature " << o.stature_mm << " mm is outside 800..2300 mm");
   HULLPOSE_THROW_UNLESS(o.speed > 0 && o.speed <= 5, "speed " << o.speed << " must be in (0, 5]");
-  HULLPOSE_THROW_UNLESS(o.stride_mm >= 0 && o.stride_mm <= 2500, "stride " << o.stride_mm << " mm is out of range");
+  HULLPOSE_THROW_UNLESS(o.stride_mm >= 0 && o.stride_mm <= 2500,
+                        "stride " << o.stride_mm << " mm is out of range");
   const double s = o.stature_mm / 1750.0;
   const double leg = (0.224 + 0.239) * o.stature_mm;
   const double sp = o.speed;
@@ -218,7 +248,8 @@ std::unique_ptr<Motion> make_builtin_motion(const std::string& name, const Motio
     };
   } else if (name == "jump") {
     Pose stand = standing(), crouch = stand, flight = stand, land = stand;
-    for (auto [hip, knee, ankle] : {std::tuple{kLHipFlex, kLKnee, kLAnkle}, std::tuple{kRHipFlex, kRKnee, kRAnkle}}) {
+    for (auto [hip, knee, ankle] :
+         {std::tuple{kLHipFlex, kLKnee, kLAnkle}, std::tuple{kRHipFlex, kRKnee, kRAnkle}}) {
       crouch[hip] = 1.0, crouch[knee] = 1.5, crouch[ankle] = 0.5;
       land[hip] = 0.5, land[knee] = 0.8, land[ankle] = 0.3;
       flight[knee] = 0.15, flight[ankle] = -0.4;
@@ -227,18 +258,21 @@ std::unique_ptr<Motion> make_builtin_motion(const std::string& name, const Motio
     crouch[kLShoFlex] = crouch[kRShoFlex] = -0.7;
     flight[kLShoFlex] = flight[kRShoFlex] = 1.7;
     flight[kLift] = o.stride_mm > 0 ? o.stride_mm : 250 * s;  // jump height
-    const std::vector<std::pair<double, Pose>> keys = {{0.0, stand}, {0.3, crouch}, {0.45, stand},
+    const std::vector<std::pair<double, Pose>> keys = {{0.0, stand},  {0.3, crouch}, {0.45, stand},
                                                        {0.6, flight}, {0.75, stand}, {0.85, land}};
     d = [keys, sp](double t) { return keyframes(keys, t * sp / 1.6); };
   } else if (name == "crouch") {
     Pose stand = standing(), low = stand;
-    for (auto [hip, knee, ankle] : {std::tuple{kLHipFlex, kLKnee, kLAnkle}, std::tuple{kRHipFlex, kRKnee, kRAnkle}})
+    for (auto [hip, knee, ankle] :
+         {std::tuple{kLHipFlex, kLKnee, kLAnkle}, std::tuple{kRHipFlex, kRKnee, kRAnkle}})
       low[hip] = 1.7, low[knee] = 2.2, low[ankle] = 0.5;
     low[kLean] = 0.55;
     low[kLShoFlex] = low[kRShoFlex] = 1.3;
     low[kLElbow] = low[kRElbow] = 0.4;
-    d = [keys = std::vector<std::pair<double, Pose>>{{0.0, stand}, {0.15, stand}, {0.5, low}, {0.65, low}}, sp](
-            double t) { return keyframes(keys, t * sp / 3.0); };
+    d = [keys =
+             std::vector<std::pair<double, Pose>>{
+                 {0.0, stand}, {0.15, stand}, {0.5, low}, {0.65, low}},
+         sp](double t) { return keyframes(keys, t * sp / 3.0); };
   } else if (name == "turn") {
     d = [sp](double t) {
       Pose q{};
@@ -263,7 +297,8 @@ std::unique_ptr<Motion> make_builtin_motion(const std::string& name, const Motio
   } else {
     std::string list;
     for (const auto& n : builtin_motion_names()) list += (list.empty() ? "" : ", ") + n;
-    HULLPOSE_THROW("unknown motion '" << name << "' (built-in motions: " << list << "; or a .bvh file)");
+    HULLPOSE_THROW("unknown motion '" << name << "' (built-in motions: " << list
+                                      << "; or a .bvh file)");
   }
   return std::make_unique<ProceduralMotion>(name, o.stature_mm, o.build, o.centre_mm, std::move(d));
 }

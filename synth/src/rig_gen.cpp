@@ -21,12 +21,16 @@ void look_at(CameraModel& camera, const Eigen::Vector3d& centre, const Eigen::Ve
 }
 
 Rig make_ring_rig(const RingRigSpec& s) {
-  HULLPOSE_THROW_UNLESS(s.ring_cameras >= 1 && s.ring_cameras <= 63, "ring cameras " << s.ring_cameras << " must be 1..63");
-  HULLPOSE_THROW_UNLESS(s.volume_x_mm > 0 && s.volume_y_mm > 0 && s.volume_z_mm > 0, "capture volume must have a positive size");
-  HULLPOSE_THROW_UNLESS(s.radius_mm > 0.5 * std::hypot(s.volume_x_mm, s.volume_y_mm),
-                        "ring radius " << s.radius_mm << " mm puts the cameras inside the capture volume");
-  HULLPOSE_THROW_UNLESS(s.vfov_deg > 1 && s.vfov_deg < 170 && s.ceiling_vfov_deg > 1 && s.ceiling_vfov_deg < 170,
-                        "field of view must be in (1, 170) degrees");
+  HULLPOSE_THROW_UNLESS(s.ring_cameras >= 1 && s.ring_cameras <= 63,
+                        "ring cameras " << s.ring_cameras << " must be 1..63");
+  HULLPOSE_THROW_UNLESS(s.volume_x_mm > 0 && s.volume_y_mm > 0 && s.volume_z_mm > 0,
+                        "capture volume must have a positive size");
+  HULLPOSE_THROW_UNLESS(
+      s.radius_mm > 0.5 * std::hypot(s.volume_x_mm, s.volume_y_mm),
+      "ring radius " << s.radius_mm << " mm puts the cameras inside the capture volume");
+  HULLPOSE_THROW_UNLESS(
+      s.vfov_deg > 1 && s.vfov_deg < 170 && s.ceiling_vfov_deg > 1 && s.ceiling_vfov_deg < 170,
+      "field of view must be in (1, 170) degrees");
   Rig rig;
   rig.rig_id = s.rig_id;
   rig.volume.min_mm = Eigen::Vector3d(-s.volume_x_mm / 2, -s.volume_y_mm / 2, 0);
@@ -47,7 +51,8 @@ Rig make_ring_rig(const RingRigSpec& s) {
     c.name = "ring" + std::to_string(i);
     intrinsics(c, s.vfov_deg);
     const double az = (s.azimuth0_deg + 360.0 * i / s.ring_cameras) * M_PI / 180;
-    const Eigen::Vector3d centre(s.radius_mm * std::cos(az), s.radius_mm * std::sin(az), s.height_mm);
+    const Eigen::Vector3d centre(s.radius_mm * std::cos(az), s.radius_mm * std::sin(az),
+                                 s.height_mm);
     Eigen::Vector3d target = aim;
     if (!std::isnan(s.tilt_deg))
       target = Eigen::Vector3d(0, 0, s.height_mm - s.radius_mm * std::tan(s.tilt_deg * M_PI / 180));
@@ -59,8 +64,9 @@ Rig make_ring_rig(const RingRigSpec& s) {
     c.id = s.ring_cameras;
     c.name = "ceiling";
     intrinsics(c, s.ceiling_vfov_deg);
-    HULLPOSE_THROW_UNLESS(s.ceiling_height_mm > s.volume_z_mm + 300,
-                          "ceiling camera at " << s.ceiling_height_mm << " mm is not above the capture volume");
+    HULLPOSE_THROW_UNLESS(
+        s.ceiling_height_mm > s.volume_z_mm + 300,
+        "ceiling camera at " << s.ceiling_height_mm << " mm is not above the capture volume");
     look_at(c, Eigen::Vector3d(0, 0, s.ceiling_height_mm), Eigen::Vector3d(0, 0, 0));
     rig.cameras.push_back(c);
   }
@@ -79,24 +85,35 @@ Rig rig_from_name_or_file(const std::string& spec) {
     const std::string_view item = rest.substr(0, comma);
     rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
     const size_t eq = item.find('=');
-    HULLPOSE_THROW_UNLESS(eq != std::string_view::npos, "rig '" << spec << "': '" << item << "' is not key=value");
+    HULLPOSE_THROW_UNLESS(eq != std::string_view::npos,
+                          "rig '" << spec << "': '" << item << "' is not key=value");
     const std::string key(item.substr(0, eq)), text(item.substr(eq + 1));
     double v = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     HULLPOSE_THROW_UNLESS(ec == std::errc() && end == text.data() + text.size() && std::isfinite(v),
                           "rig '" << spec << "': " << key << "='" << text << "' is not a number");
-    if (key == "cameras") r.ring_cameras = static_cast<int>(v);
-    else if (key == "radius") r.radius_mm = v;
-    else if (key == "height") r.height_mm = v;
-    else if (key == "tilt") r.tilt_deg = v;
-    else if (key == "ceiling") r.ceiling = v != 0;
-    else if (key == "vfov") r.vfov_deg = v;
-    else if (key == "k1") r.k1 = v;
-    else if (key == "width") r.width = static_cast<int>(v);
-    else if (key == "rows") r.height = static_cast<int>(v);
+    if (key == "cameras")
+      r.ring_cameras = static_cast<int>(v);
+    else if (key == "radius")
+      r.radius_mm = v;
+    else if (key == "height")
+      r.height_mm = v;
+    else if (key == "tilt")
+      r.tilt_deg = v;
+    else if (key == "ceiling")
+      r.ceiling = v != 0;
+    else if (key == "vfov")
+      r.vfov_deg = v;
+    else if (key == "k1")
+      r.k1 = v;
+    else if (key == "width")
+      r.width = static_cast<int>(v);
+    else if (key == "rows")
+      r.height = static_cast<int>(v);
     else
-      HULLPOSE_THROW("rig '" << spec << "': unknown key '" << key
-                             << "' (cameras, radius, height, tilt, ceiling, vfov, k1, width, rows)");
+      HULLPOSE_THROW(
+          "rig '" << spec << "': unknown key '" << key
+                  << "' (cameras, radius, height, tilt, ceiling, vfov, k1, width, rows)");
   }
   return make_ring_rig(r);
 }

@@ -54,7 +54,8 @@ std::string indexed(const fs::path& dir, const char* stem, int i) {
 
 Sequence from_disk(const fs::path& dir) {
   Sequence s;
-  for (int k = 0; fs::exists(indexed(dir, "background", k)); ++k) s.background.push_back(cv::imread(indexed(dir, "background", k)));
+  for (int k = 0; fs::exists(indexed(dir, "background", k)); ++k)
+    s.background.push_back(cv::imread(indexed(dir, "background", k)));
   for (int f = 0; fs::exists(indexed(dir, "rgb", f)); ++f) {
     s.frames.push_back(cv::imread(indexed(dir, "rgb", f)));
     const std::string mask = indexed(dir, "mask", f);
@@ -69,7 +70,8 @@ double thread_cpu_ms() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
-void run(benchmark::State& state, const std::string& method, const std::string& what, const Sequence& seq) {
+void run(benchmark::State& state, const std::string& method, const std::string& what,
+         const Sequence& seq) {
   cv::setNumThreads(1);
   if (seq.background.empty() || seq.frames.empty()) {
     state.SkipWithError("sequence has no background or no frames");
@@ -97,7 +99,8 @@ void run(benchmark::State& state, const std::string& method, const std::string& 
     f = (f + 1) % seq.frames.size();
   }
   // This thread's CPU time per frame: on a shared machine it is steadier than median_ms (wall).
-  state.counters["cpu_ms"] = (thread_cpu_ms() - cpu_start) / static_cast<double>(state.iterations());
+  state.counters["cpu_ms"] =
+      (thread_cpu_ms() - cpu_start) / static_cast<double>(state.iterations());
   state.counters["precision"] = post.precision();
   state.counters["recall"] = post.recall();
   state.counters["f1"] = post.f1();
@@ -114,7 +117,8 @@ void cleanup_bench(benchmark::State& state, cv::Size size) {
   for (auto _ : state) {
     state.PauseTiming();
     seq.truth[f].copyTo(mask);
-    for (int i = 0; i < 8; ++i)  // specks all over the image that survive the opening, removed by area
+    for (int i = 0; i < 8;
+         ++i)  // specks all over the image that survive the opening, removed by area
       mask(cv::Rect((i * 97) % (size.width - 8), (i * 61) % (size.height - 8), 4, 4)).setTo(255);
     state.ResumeTiming();
     cleanup.apply(mask);
@@ -126,7 +130,8 @@ void cleanup_bench(benchmark::State& state, cv::Size size) {
 const Sequence& synthetic_cached(cv::Size size) {
   static std::map<std::pair<int, int>, Sequence> cache;
   auto it = cache.find({size.width, size.height});
-  if (it == cache.end()) it = cache.emplace(std::pair{size.width, size.height}, synthetic(size)).first;
+  if (it == cache.end())
+    it = cache.emplace(std::pair{size.width, size.height}, synthetic(size)).first;
   return it->second;
 }
 
@@ -137,12 +142,15 @@ const bool registered = [] {
     for (const char* m : methods) {
       const std::string method = m;
       const std::string what = "synthetic/" + res;
-      benchmark::RegisterBenchmark(("bgs/" + method + "/" + what).c_str(), [method, what, size](benchmark::State& st) {
-        run(st, method, what, synthetic_cached(size));
-      })->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("bgs/" + method + "/" + what).c_str(),
+                                   [method, what, size](benchmark::State& st) {
+                                     run(st, method, what, synthetic_cached(size));
+                                   })
+          ->Unit(benchmark::kMillisecond);
     }
-    benchmark::RegisterBenchmark(("bgs/cleanup/" + res).c_str(), [size](benchmark::State& st) { cleanup_bench(st, size); })
-        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("bgs/cleanup/" + res).c_str(), [size](benchmark::State& st) {
+      cleanup_bench(st, size);
+    })->Unit(benchmark::kMillisecond);
   }
   const fs::path shared = fs::path(HULLPOSE_SHARED_DIR) / "data" / "bgs";
   std::error_code ec;
@@ -154,12 +162,15 @@ const bool registered = [] {
       for (const char* m : methods) {
         const std::string method = m;
         const std::string what = "shared/" + name;
-        benchmark::RegisterBenchmark(("bgs/" + method + "/" + what).c_str(), [method, what, dir](benchmark::State& st) {
-          static std::map<std::string, Sequence> cache;
-          auto it = cache.find(dir.string());
-          if (it == cache.end()) it = cache.emplace(dir.string(), from_disk(dir)).first;
-          run(st, method, what, it->second);
-        })->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("bgs/" + method + "/" + what).c_str(),
+                                     [method, what, dir](benchmark::State& st) {
+                                       static std::map<std::string, Sequence> cache;
+                                       auto it = cache.find(dir.string());
+                                       if (it == cache.end())
+                                         it = cache.emplace(dir.string(), from_disk(dir)).first;
+                                       run(st, method, what, it->second);
+                                     })
+            ->Unit(benchmark::kMillisecond);
       }
     }
   }

@@ -13,8 +13,12 @@ struct Score {
     fp += cv::countNonZero(m & ~t);
     fn += cv::countNonZero(~m & t);
   }
-  double precision() const { return tp + fp ? static_cast<double>(tp) / static_cast<double>(tp + fp) : 1.0; }
-  double recall() const { return tp + fn ? static_cast<double>(tp) / static_cast<double>(tp + fn) : 1.0; }
+  double precision() const {
+    return tp + fp ? static_cast<double>(tp) / static_cast<double>(tp + fp) : 1.0;
+  }
+  double recall() const {
+    return tp + fn ? static_cast<double>(tp) / static_cast<double>(tp + fn) : 1.0;
+  }
   double f1() const {
     const double p = precision(), r = recall();
     return p + r > 0 ? 2 * p * r / (p + r) : 0.0;

@@ -23,8 +23,8 @@ struct SynthSequenceOptions {
   int frames = 30;
   int camera = 0;
   double fps = 30;
-  double drift = 0.10;         // relative amplitude of the illumination drift ...
-  double drift_period_s = 8;   // ... fast enough that a one-second sequence sees it
+  double drift = 0.10;        // relative amplitude of the illumination drift ...
+  double drift_period_s = 8;  // ... fast enough that a one-second sequence sees it
   double shadow_strength = 0.5;
   double noise_sigma = 2.0;
   const char* motion = "walk";
@@ -49,7 +49,8 @@ inline SynthSequence render_synth_sequence(const SynthSequenceOptions& o) {
   body.stature_mm = motion->stature_mm();
   synth::CameraRenderer renderer(*motion, body, *rig.find(o.camera), scene, o.fps);
   SynthSequence s;
-  for (int k = 0; k < o.background_frames; ++k) renderer.render_background(k, s.background.emplace_back());
+  for (int k = 0; k < o.background_frames; ++k)
+    renderer.render_background(k, s.background.emplace_back());
   for (int f = 0; f < o.frames; ++f) {
     s.frames.emplace_back();
     s.truth.emplace_back();

@@ -49,14 +49,15 @@ test::Score score(const std::string& method, const test::SynthSequence& seq) {
 
 }  // namespace
 
-TEST_CASE("every method separates the person from a shadowed, drifting scene, at least as well as MOG2") {
+TEST_CASE(
+    "every method separates the person from a shadowed, drifting scene, at least as well as MOG2") {
   for (uint64_t seed : {1u, 2u}) {
     const test::SynthSequence seq = small_sequence(seed);
     const double mog2 = score("mog2", seq).f1();
     for (const std::string method : {"horprasert", "codebook", "sobs"}) {
       const test::Score s = score(method, seq);
-      INFO("seed " << seed << " " << method << ": precision " << s.precision() << " recall " << s.recall()
-                   << " F1 " << s.f1() << ", MOG2 F1 " << mog2);
+      INFO("seed " << seed << " " << method << ": precision " << s.precision() << " recall "
+                   << s.recall() << " F1 " << s.f1() << ", MOG2 F1 " << mog2);
       CHECK(s.f1() > 0.9);
       CHECK(s.f1() >= mog2);
     }
@@ -116,15 +117,19 @@ TEST_CASE("Codebook keeps few codewords on a static scene") {
 }
 
 TEST_CASE("methods are chosen by name and their parameters are checked") {
-  CHECK(subtractor_names() == std::vector<std::string>{"horprasert", "codebook", "sobs", "mog2", "knn", "threshold"});
+  CHECK(subtractor_names() ==
+        std::vector<std::string>{"horprasert", "codebook", "sobs", "mog2", "knn", "threshold"});
   CHECK_THROWS_WITH(make_subtractor("vibe", Params("bgs.params")),
-                    Catch::Contains("bgs.method: unknown method 'vibe' (known: horprasert, codebook, sobs, mog2, knn, threshold)"));
+                    Catch::Contains("bgs.method: unknown method 'vibe' (known: horprasert, "
+                                    "codebook, sobs, mog2, knn, threshold)"));
   Params bad("cam.yaml: bgs.params");
   bad.set("detection_rate", "2");
-  CHECK_THROWS_WITH(make_subtractor("horprasert", bad), Catch::Contains("cam.yaml: bgs.params.detection_rate"));
+  CHECK_THROWS_WITH(make_subtractor("horprasert", bad),
+                    Catch::Contains("cam.yaml: bgs.params.detection_rate"));
   Params typo("cam.yaml: bgs.params");
   typo.set("epsilon", "3");
-  CHECK_THROWS_WITH(make_subtractor("codebook", typo), Catch::Contains("unknown parameter(s): epsilon"));
+  CHECK_THROWS_WITH(make_subtractor("codebook", typo),
+                    Catch::Contains("unknown parameter(s): epsilon"));
   auto s = make_subtractor("sobs", Params("bgs.params"));
   s->begin_learning({8, 8});
   CHECK_THROWS_WITH(s->end_learning(), Catch::Contains("sobs: no background frame"));
@@ -146,7 +151,8 @@ TEST_CASE("clean-up removes speckle and small blobs, keeps the person and fills 
   CHECK(cv::countNonZero(mask(cv::Rect(40, 20, 30, 80))) > 30 * 80 - 10);
 }
 
-TEST_CASE("clean-up fills enclosed holes only: the gaps between limbs stay open, unlike with closing") {
+TEST_CASE(
+    "clean-up fills enclosed holes only: the gaps between limbs stay open, unlike with closing") {
   // Legs 3 px apart below a torso (the gap opens to the background below), an arm resting on
   // the hip around a 10x10 gap of real background (enclosed, larger than max_hole_area), and a
   // 2x2 pinhole in the torso (enclosed, small).
@@ -185,5 +191,6 @@ TEST_CASE("the threshold method passes pre-segmented frames through unchanged") 
   CHECK(cv::countNonZero(mask != truth) == 0);
   Params bad("bgs.params");
   bad.set("level", "0");
-  CHECK_THROWS_WITH(make_subtractor("threshold", bad), Catch::Contains("bgs.params.level: must be in [1, 255]"));
+  CHECK_THROWS_WITH(make_subtractor("threshold", bad),
+                    Catch::Contains("bgs.params.level: must be in [1, 255]"));
 }

@@ -44,7 +44,8 @@ std::string error_of(const std::vector<const char*>& args) {
 
 TEST_CASE("command line: typed options, switches, repeated handlers, defaults kept") {
   Parsed p;
-  REQUIRE(parse(p, {"--rate", "12.5", "--count", "-3", "--live", "--item", "a", "--item", "b", "--seed", "18446744073709551615"}));
+  REQUIRE(parse(p, {"--rate", "12.5", "--count", "-3", "--live", "--item", "a", "--item", "b",
+                    "--seed", "18446744073709551615"}));
   CHECK(p.name == "default");
   CHECK(p.rate == 12.5);
   CHECK(p.count == -3);

@@ -28,7 +28,9 @@ TEST_CASE("messages travel over memq://") {
   REQUIRE(bus.good());
   struct Handler {
     int64_t seq = -1;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::trigger_t* m) { seq = m->seq; }
+    void on(const lcm::ReceiveBuffer*, const std::string&, const hullpose_msg::trigger_t* m) {
+      seq = m->seq;
+    }
   } h;
   bus.subscribe("TRIGGER", &Handler::on, &h);
   hullpose_msg::trigger_t t{};

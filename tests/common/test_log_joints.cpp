@@ -55,15 +55,17 @@ TEST_CASE("joint model matches the thesis") {
   // drop and the ankle height make up the rest.
   double chain = 0;
   for (const Bone& b : kBones)
-    if (b.name == "Head" || b.name == "Upper neck" || b.name == "Lower neck" || b.name == "Thorax" ||
-        b.name == "Upper spine" || b.name == "Lower spine" || (b.name == "Thigh" && b.child == Joint::LKne) ||
+    if (b.name == "Head" || b.name == "Upper neck" || b.name == "Lower neck" ||
+        b.name == "Thorax" || b.name == "Upper spine" || b.name == "Lower spine" ||
+        (b.name == "Thigh" && b.child == Joint::LKne) ||
         (b.name == "Lower leg" && b.child == Joint::LAnk))
       chain += b.stature_ratio;
   CHECK(chain == Approx(0.822).margin(1e-9));
 }
 
 TEST_CASE("THROW_UNLESS carries its message") {
-  CHECK_THROWS_WITH([] { HULLPOSE_THROW_UNLESS(1 == 2, "camera " << 3 << ": broken"); }(), "camera 3: broken");
+  CHECK_THROWS_WITH([] { HULLPOSE_THROW_UNLESS(1 == 2, "camera " << 3 << ": broken"); }(),
+                    "camera 3: broken");
 }
 
 #include "hullpose/common/voxel_grid.hpp"

@@ -14,7 +14,6 @@ namespace ft = hullpose::fusion::testing;
 using ft::brute;
 using ft::fast;
 
-
 TEST_CASE("fast carving equals brute force at 64³ and 128³") {
   const Rig rig = ft::thesis_like_rig(320, 240);
   for (int res : {64, 128}) {
@@ -22,7 +21,8 @@ TEST_CASE("fast carving equals brute force at 64³ and 128³") {
       carve::Carver carver(rig, {res, k, 2});
       for (double phase : {0.1, 0.6}) {
         INFO("resolution " << res << " k " << k << " phase " << phase);
-        const auto views = ft::render_views(rig, ft::human_capsules(phase, 3 * phase, {200 * phase, -100}));
+        const auto views =
+            ft::render_views(rig, ft::human_capsules(phase, 3 * phase, {200 * phase, -100}));
         carve::CarveReport report;
         const BitGrid a = fast(carver, views, &report);
         CHECK(report.valid);
@@ -43,4 +43,3 @@ TEST_CASE("fast carving equals brute force at 256³ (3 small cameras)") {
   CHECK(a.count() > 10000);
   CHECK(a == brute(carver, views));
 }
-

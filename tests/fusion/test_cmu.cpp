@@ -33,7 +33,8 @@ TEST_CASE("CMU 55_01: carving equals brute force, skeletons keep the hull's topo
       CHECK(boxed == brute);
     }
     for (auto sk : {fusion::Skeletoniser::kCk3, fusion::Skeletoniser::kD6i1d})
-      for (auto rule : {thin::CurveRule::kCk3, thin::CurveRule::kIsthmus, thin::CurveRule::kEndVoxel}) {
+      for (auto rule :
+           {thin::CurveRule::kCk3, thin::CurveRule::kIsthmus, thin::CurveRule::kEndVoxel}) {
         if (sk == fusion::Skeletoniser::kD6i1d && rule != thin::CurveRule::kCk3) continue;
         fusion::FusionOptions opt;
         opt.resolution = res;
@@ -41,7 +42,8 @@ TEST_CASE("CMU 55_01: carving equals brute force, skeletons keep the hull's topo
         opt.curve_rule = rule;
         fusion::FusionCore core(cmu.rig, opt);
         for (size_t f = 0; f < cmu.views.size(); ++f) {
-          INFO("resolution " << res << " frame " << cmu.frames[f] << " rule " << thin::to_string(rule));
+          INFO("resolution " << res << " frame " << cmu.frames[f] << " rule "
+                             << thin::to_string(rule));
           const auto& r = core.process(cmu.views[f]);
           REQUIRE(r.valid);
           CHECK(thin::topology_invariants(r.hull).components == 1);

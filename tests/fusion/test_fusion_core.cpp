@@ -30,8 +30,12 @@ void* operator new(std::size_t n) {
 // GCC cannot see that these deletes pair with the malloc-based new above.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -88,7 +92,7 @@ TEST_CASE("too few views and an empty scene are counted, not fused") {
 TEST_CASE("clean-up keeps the largest component (or all above a size) and fills small cavities") {
   BitGrid v = ft::hollow_ball(6, 3);  // one cavity
   const Eigen::Vector3i d = v.dims();
-  v.set(0, 0, 0);  // a 1-voxel speck
+  v.set(0, 0, 0);                                              // a 1-voxel speck
   for (int x = 0; x < 4; ++x) v.set(x, d.y() - 1, d.z() - 1);  // a 4-voxel speck
   const size_t n = v.count();
   {

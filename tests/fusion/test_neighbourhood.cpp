@@ -23,9 +23,10 @@ TEST_CASE("simple-point test vectors of notes §1.3") {
     bool simple;
   };
   const Vec vecs[] = {
-      {0x0002000, 0, 1, false}, {0x0006000, 1, 1, true},  {0x0007000, 2, 1, false}, {0x0016000, 1, 1, true},
-      {0x7ffffff, 1, 0, false}, {0x7bfffff, 1, 1, true},  {0x00021ff, 1, 1, true},  {0x7fc21ff, 2, 1, false},
-      {0x003fe00, 1, 2, false}, {0x4002001, 2, 1, false}, {0x2022000, 1, 1, true},  {0x0417410, 1, 0, false},
+      {0x0002000, 0, 1, false}, {0x0006000, 1, 1, true},  {0x0007000, 2, 1, false},
+      {0x0016000, 1, 1, true},  {0x7ffffff, 1, 0, false}, {0x7bfffff, 1, 1, true},
+      {0x00021ff, 1, 1, true},  {0x7fc21ff, 2, 1, false}, {0x003fe00, 1, 2, false},
+      {0x4002001, 2, 1, false}, {0x2022000, 1, 1, true},  {0x0417410, 1, 0, false},
       {0x003ffff, 1, 1, true},
   };
   for (const Vec& v : vecs) {
@@ -57,7 +58,9 @@ TEST_CASE("LUT and T̄ table equal the BFS reference of §1.1 on random neighbou
   }
 }
 
-TEST_CASE("0-clique tests: the span test sees the tripod, star and tetrahedron, the antipodal test does not") {
+TEST_CASE(
+    "0-clique tests: the span test sees the tripod, star and tetrahedron, the antipodal test does "
+    "not") {
   // Blocks in the (+,+,+) octant of the centre, as offsets.
   const nb::Octant& o = nb::kOctants[7];
   auto block = [](std::initializer_list<std::array<int, 3>> cells) {
@@ -79,7 +82,9 @@ TEST_CASE("0-clique tests: the span test sees the tripod, star and tetrahedron, 
   CHECK(nb::block_antipodal(antipodal, o));
 }
 
-TEST_CASE("2-clique ring test: crucial iff the ring is empty, disconnected or covers the four 4-neighbours") {
+TEST_CASE(
+    "2-clique ring test: crucial iff the ring is empty, disconnected or covers the four "
+    "4-neighbours") {
   for (uint32_t g = 0; g < 512; ++g) {
     const uint32_t r = g & ~0x10u;
     // DGtal's formulation (notes §2.2), evaluated directly.
@@ -94,7 +99,9 @@ TEST_CASE("2-clique ring test: crucial iff the ring is empty, disconnected or co
         for (int c = 0; c < 9; ++c)
           if (comp >> c & 1u)
             for (int d = 0; d < 9; ++d)
-              if (d != 4 && (r >> d & 1u) && std::abs(c % 3 - d % 3) <= 1 && std::abs(c / 3 - d / 3) <= 1) comp |= 1u << d;
+              if (d != 4 && (r >> d & 1u) && std::abs(c % 3 - d % 3) <= 1 &&
+                  std::abs(c / 3 - d / 3) <= 1)
+                comp |= 1u << d;
       }
       connected = comp == r;
     }
@@ -126,5 +133,6 @@ TEST_CASE("plane9 extracts the 3x3 plane of a code, and kPlaneCells inverts it")
       }
   }
   for (int axis = 0; axis < 3; ++axis)
-    for (int cell = 0; cell < 9; ++cell) CHECK(nb::plane9(1u << nb::kPlaneCells.bit[axis][cell], axis, 0) == 1u << cell);
+    for (int cell = 0; cell < 9; ++cell)
+      CHECK(nb::plane9(1u << nb::kPlaneCells.bit[axis][cell], axis, 0) == 1u << cell);
 }

@@ -18,11 +18,11 @@ using ft::kAllRules;
 using ft::subset;
 using ft::thinned;
 
-
 TEST_CASE("run-based invariants equal the dense BFS / Khalimsky reference") {
   std::mt19937 rng(11);
   for (int i = 0; i < 12; ++i) {
-    const BitGrid v = i < 6 ? ft::random_blobs(rng, 18, 6) : ft::random_noise(rng, {9, 8, 7}, 0.5, 1);
+    const BitGrid v =
+        i < 6 ? ft::random_blobs(rng, 18, 6) : ft::random_noise(rng, {9, 8, 7}, 0.5, 1);
     const auto a = thin::topology_invariants(v);
     const auto r = ft::reference_invariants(v);
     CHECK(a.components == r.components);
@@ -77,7 +77,8 @@ TEST_CASE("a torus becomes a closed ring") {
       CHECK(t.tunnels() == 1);
       // The thesis rule keeps residual points of a still 3-thick ring on the even grid (2 voxels).
       const double tol = rule == CurveRule::kCk3 ? 2.0 : 1.0;
-      y.for_each([&](int vx, int vy, int) { CHECK(std::abs(std::hypot(vx - c, vy - c) - 10) <= tol); });
+      y.for_each(
+          [&](int vx, int vy, int) { CHECK(std::abs(std::hypot(vx - c, vy - c) - 10) <= tol); });
     }
   }
 }
@@ -100,9 +101,12 @@ TEST_CASE("canonical shapes reproduce the table of notes §5.4") {
   };
   for (const Row& r : rows) {
     INFO(r.name);
-    if (r.ult >= 0) CHECK(thinned(r.shape, CurveRule::kUltimate).count() == static_cast<size_t>(r.ult));
-    if (r.isth >= 0) CHECK(thinned(r.shape, CurveRule::kIsthmus).count() == static_cast<size_t>(r.isth));
-    if (r.end >= 0) CHECK(thinned(r.shape, CurveRule::kEndVoxel).count() == static_cast<size_t>(r.end));
+    if (r.ult >= 0)
+      CHECK(thinned(r.shape, CurveRule::kUltimate).count() == static_cast<size_t>(r.ult));
+    if (r.isth >= 0)
+      CHECK(thinned(r.shape, CurveRule::kIsthmus).count() == static_cast<size_t>(r.isth));
+    if (r.end >= 0)
+      CHECK(thinned(r.shape, CurveRule::kEndVoxel).count() == static_cast<size_t>(r.end));
   }
   // Hollow sphere: a closed 2-thick surface around the cavity in every mode, not thinned further.
   const BitGrid hollow = ft::hollow_ball(8, 2);
@@ -130,7 +134,9 @@ TEST_CASE("idempotent on its own output with K carried over") {
   }
 }
 
-TEST_CASE("the antipodal 0-clique test of Pink/DGtal deletes the tripod, the span test keeps it (notes §2.5)") {
+TEST_CASE(
+    "the antipodal 0-clique test of Pink/DGtal deletes the tripod, the span test keeps it (notes "
+    "§2.5)") {
   BitGrid tripod({6, 6, 6});
   tripod.set(2, 2, 2);
   tripod.set(3, 3, 2);
@@ -144,7 +150,9 @@ TEST_CASE("the antipodal 0-clique test of Pink/DGtal deletes the tripod, the spa
   CHECK(b.count() == 0);
 }
 
-TEST_CASE("small: the result does not depend on the thread count, and commutes with the cube symmetries") {
+TEST_CASE(
+    "small: the result does not depend on the thread count, and commutes with the cube "
+    "symmetries") {
   std::mt19937 rng(29);
   const BitGrid blob = ft::random_blobs(rng, 14, 5);
   const BitGrid box = ft::box(7, 5, 4);
@@ -154,6 +162,7 @@ TEST_CASE("small: the result does not depend on the thread count, and commutes w
     CHECK(thinned(blob, rule, 2) == one);
     CHECK(thinned(blob, rule, 3) == one);
     const BitGrid y = thinned(box, rule);
-    for (const auto& g : ft::all_isometries()) CHECK(thinned(ft::apply(g, box), rule) == ft::apply(g, y));
+    for (const auto& g : ft::all_isometries())
+      CHECK(thinned(ft::apply(g, box), rule) == ft::apply(g, y));
   }
 }

@@ -19,7 +19,6 @@ using ft::kAllRules;
 using ft::subset;
 using ft::thinned;
 
-
 TEST_CASE("thinning preserves topology: random noise (many components, cavities and tunnels)") {
   std::mt19937 rng(5);
   for (int i = 0; i < 6; ++i) {
@@ -75,8 +74,8 @@ TEST_CASE("thinning commutes with the 48 symmetries of the cube") {
     for (const BitGrid& x : shapes) {
       const BitGrid y = thinned(x, rule);
       for (const auto& g : isometries) {
-        INFO("rule " << thin::to_string(rule) << " perm " << g.perm[0] << g.perm[1] << g.perm[2] << " flip "
-                     << g.flip[0] << g.flip[1] << g.flip[2]);
+        INFO("rule " << thin::to_string(rule) << " perm " << g.perm[0] << g.perm[1] << g.perm[2]
+                     << " flip " << g.flip[0] << g.flip[1] << g.flip[2]);
         CHECK(thinned(ft::apply(g, x), rule) == ft::apply(g, y));
       }
     }
@@ -84,8 +83,9 @@ TEST_CASE("thinning commutes with the 48 symmetries of the cube") {
 
 TEST_CASE("D6I1D preserves topology, is stable and keeps limbs") {
   std::mt19937 rng(17);
-  std::vector<BitGrid> shapes = {ft::random_blobs(rng, 20, 8), ft::torus(8, 2.5, false), ft::trefoil_tube(3.2, 2.2),
-                                 ft::hollow_ball(7, 2), ft::random_noise(rng, {10, 9, 8}, 0.5, 2)};
+  std::vector<BitGrid> shapes = {ft::random_blobs(rng, 20, 8), ft::torus(8, 2.5, false),
+                                 ft::trefoil_tube(3.2, 2.2), ft::hollow_ball(7, 2),
+                                 ft::random_noise(rng, {10, 9, 8}, 0.5, 2)};
   const Rig rig = ft::thesis_like_rig();
   shapes.push_back(ft::voxelise(VoxelGridSpec::fit(rig.volume, 64), ft::human_capsules(0.2)));
   thin::D6i1dThinner d6;

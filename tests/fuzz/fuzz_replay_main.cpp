@@ -24,7 +24,8 @@ TEST_CASE("fuzz target survives seeded random and mutated inputs") {
     for (int i = 0; i < 20000; ++i) {
       buf = seed;
       const int flips = 1 + static_cast<int>(rng() % 4);
-      for (int f = 0; f < flips && !buf.empty(); ++f) buf[rng() % buf.size()] = static_cast<uint8_t>(rng());
+      for (int f = 0; f < flips && !buf.empty(); ++f)
+        buf[rng() % buf.size()] = static_cast<uint8_t>(rng());
       if (rng() % 4 == 0) buf.resize(rng() % (buf.size() + 1));
       REQUIRE(LLVMFuzzerTestOneInput(buf.data(), buf.size()) == 0);
     }

@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
   int i = 0;
   for (const auto& seed : hullpose_fuzz_seeds()) {
     std::ofstream out(std::string(argv[1]) + "/seed_" + std::to_string(i++), std::ios::binary);
-    out.write(reinterpret_cast<const char*>(seed.data()), static_cast<std::streamsize>(seed.size()));
+    out.write(reinterpret_cast<const char*>(seed.data()),
+              static_cast<std::streamsize>(seed.size()));
   }
   return 0;
 }

@@ -15,9 +15,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static std::vector<uint8_t> bytes;
   static hullpose::SilhouetteEncoder encoder;
   const hullpose::DecodeLimits limits{1024, 1024};
-  if (hullpose::decode_silhouette({data, size}, limits, mask) != hullpose::CodecError::kNone) return 0;
+  if (hullpose::decode_silhouette({data, size}, limits, mask) != hullpose::CodecError::kNone)
+    return 0;
   encoder.encode(mask, bytes);
-  if (hullpose::decode_silhouette(bytes, limits, again) != hullpose::CodecError::kNone) std::abort();
+  if (hullpose::decode_silhouette(bytes, limits, again) != hullpose::CodecError::kNone)
+    std::abort();
   if (cv::countNonZero(mask != again) != 0) std::abort();
   return 0;
 }

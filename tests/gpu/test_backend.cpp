@@ -14,7 +14,8 @@ TEST_CASE("backend names parse, and bad ones are rejected") {
   CHECK(parse_backend("auto") == Backend::kAuto);
   CHECK(parse_backend("cpu") == Backend::kCpu);
   CHECK(parse_backend("cuda") == Backend::kCuda);
-  CHECK_THROWS_WITH(parse_backend("opencl"), Catch::Contains("'opencl'") && Catch::Contains("auto, cpu, cuda"));
+  CHECK_THROWS_WITH(parse_backend("opencl"),
+                    Catch::Contains("'opencl'") && Catch::Contains("auto, cpu, cuda"));
   CHECK(to_string(Backend::kCuda) == "cuda");
 }
 
@@ -34,7 +35,8 @@ TEST_CASE("probe and auto agree; cpu never probes") {
     INFO("probe: " << device.reason);
     CHECK_FALSE(device.reason.empty());
     CHECK(resolve_backend(Backend::kAuto) == Backend::kCpu);
-    CHECK_THROWS_WITH(resolve_backend(Backend::kCuda), Catch::Contains("--backend cuda") && Catch::Contains(device.reason));
+    CHECK_THROWS_WITH(resolve_backend(Backend::kCuda),
+                      Catch::Contains("--backend cuda") && Catch::Contains(device.reason));
   }
 }
 
@@ -56,9 +58,11 @@ TEST_CASE("the fusion core resolves its backend: auto falls back to the CPU, cud
   CHECK(cpu.process(views).hull == hull);
   if (!device.available) {
     opt.backend = Backend::kCuda;
-    CHECK_THROWS_WITH(hullpose::fusion::FusionCore(rig, opt), Catch::Contains("--backend cuda") && Catch::Contains(device.reason));
+    CHECK_THROWS_WITH(hullpose::fusion::FusionCore(rig, opt),
+                      Catch::Contains("--backend cuda") && Catch::Contains(device.reason));
     // The backend class itself refuses cleanly too.
     hullpose::carve::Carver carver(rig, {32, 0, 1});
-    CHECK_THROWS_WITH(CudaFusion(carver, {}), Catch::Contains("CUDA backend") && Catch::Contains(device.reason));
+    CHECK_THROWS_WITH(CudaFusion(carver, {}),
+                      Catch::Contains("CUDA backend") && Catch::Contains(device.reason));
   }
 }

@@ -25,8 +25,8 @@ void require_device() {
 // Carving (with and without foreground boxes) and CK3 with every rule on one frame's views.
 void compare(const Rig& rig, const std::vector<cv::Mat>& views, int resolution, int tolerance) {
   carve::Carver carver(rig, {resolution, tolerance, 1});
-  for (thin::CurveRule rule : {thin::CurveRule::kCk3, thin::CurveRule::kIsthmus, thin::CurveRule::kEndVoxel,
-                               thin::CurveRule::kUltimate}) {
+  for (thin::CurveRule rule : {thin::CurveRule::kCk3, thin::CurveRule::kIsthmus,
+                               thin::CurveRule::kEndVoxel, thin::CurveRule::kUltimate}) {
     INFO("resolution " << resolution << " k " << tolerance << " rule " << thin::to_string(rule));
     const thin::ThinOptions options{rule, thin::ZeroCliqueTest::kSpan3, 1, 0};
     gpu::CudaFusion cuda(carver, options);
@@ -64,7 +64,7 @@ TEST_CASE("CUDA carving and CK3 equal the CPU on synthetic scenes at 64³, 128³
     compare(rig, ft::render_views(rig, ft::human_capsules(0.35, 0.7, {150, -80})), res, 0);
   }
   auto views = ft::render_views(rig, ft::human_capsules(0.8));
-  views[2] = cv::Mat();                                  // a camera that sent nothing
+  views[2] = cv::Mat();                                 // a camera that sent nothing
   views[5] = cv::Mat::zeros(views[5].size(), CV_8UC1);  // a dark camera
   compare(rig, views, 64, 1);
 }

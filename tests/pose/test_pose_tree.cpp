@@ -12,10 +12,10 @@ namespace {
 
 constexpr double kStature = 1750;
 // The model joint each labelled extremity of a stick figure ends on.
-constexpr std::array<Joint, kNumExtremities> kTip = {Joint::HeadTop, Joint::LFTip, Joint::RFTip, Joint::LToe,
-                                                     Joint::RToe};
-constexpr std::array<const char*, kNumExtremities> kExtremityName = {"head", "left hand", "right hand",
-                                                                     "left foot", "right foot"};
+constexpr std::array<Joint, kNumExtremities> kTip = {Joint::HeadTop, Joint::LFTip, Joint::RFTip,
+                                                     Joint::LToe, Joint::RToe};
+constexpr std::array<const char*, kNumExtremities> kExtremityName = {
+    "head", "left hand", "right hand", "left foot", "right foot"};
 
 int nearest_node(const LabelledTree& t, const Eigen::Vector3d& p) {
   int best = 0;
@@ -44,7 +44,8 @@ void check_labels(const LabelledTree& t, const JointPositions& truth, double tip
   CHECK(t.part[nearest_node(t, truth[index(Joint::Head)])] == Part::Neck);
 }
 
-const LabelledTree& build(PoseTreeBuilder& b, const std::vector<Eigen::Vector3i>& voxels, const VoxelGridSpec& g) {
+const LabelledTree& build(PoseTreeBuilder& b, const std::vector<Eigen::Vector3i>& voxels,
+                          const VoxelGridSpec& g) {
   return b.build(voxels, g, TemporalHint{});
 }
 
@@ -188,7 +189,8 @@ TEST_CASE("temporal correspondence keeps left and right when the geometry cannot
   REQUIRE(first.valid);
   TemporalHint hint;
   hint.valid = true;
-  for (int s = 0; s < kNumExtremities; ++s) hint.extremity_mm[s] = first.position[first.extremity[s]];
+  for (int s = 0; s < kNumExtremities; ++s)
+    hint.extremity_mm[s] = first.position[first.extremity[s]];
   hint.forward = first.forward;
   const LabelledTree& second = builder.build(voxels, g, hint);
   check_labels(second, truth);
@@ -218,20 +220,22 @@ TEST_CASE("a spur off the chest as long as the neck is not taken for the head") 
     const JointPositions truth = stick_figure(kStature, t_pose(), {yaw, 0, 0, 0});
     std::vector<Eigen::Vector3i> voxels;
     for (const Bone& b : kBones)
-      if (b.child != Joint::HeadTop) rasterise_segment(g, truth[index(b.parent)], truth[index(b.child)], voxels);
+      if (b.child != Joint::HeadTop)
+        rasterise_segment(g, truth[index(b.parent)], truth[index(b.child)], voxels);
     const Eigen::Vector3d from = truth[index(Joint::Chest)];
     const Eigen::Vector3d forward_down =
-        Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(0, 1, -0.3).normalized();
+        Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()) *
+        Eigen::Vector3d(0, 1, -0.3).normalized();
     const double neck = (truth[index(Joint::HeadTop)] - truth[index(Joint::Chest)]).norm();
     rasterise_segment(g, from, from + neck * forward_down, voxels);
     dedupe(voxels);
     const LabelledTree& t = build(builder, voxels, g);
     INFO("why: " << t.why);
     REQUIRE(t.valid);
-    CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Head)]).norm() <
-          2.5 * g.voxel_mm);
-    CHECK((t.position[t.extremity[static_cast<int>(Extremity::LHand)]] - truth[index(Joint::LFTip)]).norm() <
-          2.5 * g.voxel_mm);
+    CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Head)])
+              .norm() < 2.5 * g.voxel_mm);
+    CHECK((t.position[t.extremity[static_cast<int>(Extremity::LHand)]] - truth[index(Joint::LFTip)])
+              .norm() < 2.5 * g.voxel_mm);
   }
 }
 
@@ -249,8 +253,8 @@ TEST_CASE("pruning never removes one of the last five branches") {
   const LabelledTree& t = build(builder, voxels, g);
   REQUIRE(std::string_view(t.why) != "fewer than five extremities");
   REQUIRE(t.extremity[static_cast<int>(Extremity::Head)] >= 0);
-  CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Neck)]).norm() <
-        2.5 * g.voxel_mm);
+  CHECK((t.position[t.extremity[static_cast<int>(Extremity::Head)]] - truth[index(Joint::Neck)])
+            .norm() < 2.5 * g.voxel_mm);
 }
 
 TEST_CASE("a skeleton cut off by the side of the capture volume is invalid") {
@@ -279,7 +283,8 @@ TEST_CASE("a skeleton that reads the same upside down is labelled upright") {
   PoseTreeBuilder builder;
   for (double yaw : {0.0, 40.0, 90.0, 200.0}) {
     INFO("yaw " << yaw);
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(yaw * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const Eigen::Vector3d chest(0, 0, 1400), pelvis(0, 0, 900), up(0, 0, 1);
     std::vector<Eigen::Vector3i> voxels;
     auto segment = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

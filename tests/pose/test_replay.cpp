@@ -41,9 +41,12 @@ TEST_CASE("--curve-rule selects CK3's curve constraint, ck3 by default") {
         thin::CurveRule::kCk3);
   CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--curve-rule", "ultimate"}),
                     Catch::Contains("expected ck3, isthmus or endvoxel"));
-  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--curve-rule"}), Catch::Contains("needs a value"));
-  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--frames", "ten"}), Catch::Contains("--frames"));
-  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--bogus"}), Catch::Contains("unknown option '--bogus'"));
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--curve-rule"}),
+                    Catch::Contains("needs a value"));
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--frames", "ten"}),
+                    Catch::Contains("--frames"));
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--bogus"}),
+                    Catch::Contains("unknown option '--bogus'"));
   const char* help[] = {"hullpose-fusion-host", "--replay", "d", "--help"};
   CHECK_FALSE(replay::parse_replay_args(4, help));
   CHECK(parse({"--replay", "d", "--out", "e.csv", "--skeletoniser", "d6i1d"}).fusion.skeletoniser ==
@@ -64,7 +67,8 @@ TEST_CASE("a replay runs with every curve rule and writes one estimate per frame
     INFO("rule " << rule);
     const std::string out = (dir / (std::string(rule) + ".csv")).string();
     const replay::ReplayOptions options =
-        parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution", "64", "--curve-rule", rule});
+        parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution", "64",
+               "--curve-rule", rule});
     const replay::ReplaySummary s = replay::run_replay(options);
     CHECK(s.frames == 2);
     if (std::string_view(rule) == "ck3") CHECK(s.valid >= 1);

@@ -33,10 +33,12 @@ inline Rig make_rig(int n, int w = 64, int h = 48, const std::string& id = "rigA
 }
 
 // A silhouette message for camera `cam` at trigger `seq`, with a disc at a seq-dependent place.
-inline hullpose_msg::silhouette_t make_silhouette(const Rig& rig, int cam, int64_t seq, int64_t utime) {
+inline hullpose_msg::silhouette_t make_silhouette(const Rig& rig, int cam, int64_t seq,
+                                                  int64_t utime) {
   const CameraModel& c = *rig.find(cam);
   cv::Mat mask(c.height, c.width, CV_8UC1, cv::Scalar(0));
-  cv::circle(mask, {static_cast<int>(5 + seq % (c.width - 10)), c.height / 2}, 4, cv::Scalar(255), -1);
+  cv::circle(mask, {static_cast<int>(5 + seq % (c.width - 10)), c.height / 2}, 4, cv::Scalar(255),
+             -1);
   hullpose_msg::silhouette_t m{};
   m.utime = utime;
   m.rig_id = rig.rig_id;

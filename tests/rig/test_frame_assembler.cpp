@@ -29,14 +29,17 @@ struct Harness {
   Rig rig;
   std::vector<Closed> closed;
   FrameAssembler fa;
-  Harness(int n, AssemblerConfig cfg) : rig(make_rig(n)), fa(rig, cfg, [this](const AssembledFrame& f) { record(f); }) {}
+  Harness(int n, AssemblerConfig cfg)
+      : rig(make_rig(n)), fa(rig, cfg, [this](const AssembledFrame& f) { record(f); }) {}
   void record(const AssembledFrame& f) {
     Closed c{f.trigger_seq, f.status, {}, f.camera_mask, true};
     for (const View& v : f.views) {
       c.cams.push_back(v.camera_id);
       cv::Mat expect;
-      decode_silhouette(make_silhouette(rig, v.camera_id, f.trigger_seq, f.utime).payload, {}, expect);
-      if (v.mask->size() != expect.size() || cv::countNonZero(*v.mask != expect) != 0) c.masks_match = false;
+      decode_silhouette(make_silhouette(rig, v.camera_id, f.trigger_seq, f.utime).payload, {},
+                        expect);
+      if (v.mask->size() != expect.size() || cv::countNonZero(*v.mask != expect) != 0)
+        c.masks_match = false;
       if (v.capture_utime != f.utime + 300) c.masks_match = false;
     }
     closed.push_back(c);
@@ -117,7 +120,8 @@ TEST_CASE("interleaved sequences are never mixed, and close in order") {
   CHECK(h.closed[2].seq == 12);
 }
 
-TEST_CASE("duplicate, foreign, unknown, wrong-size and inconsistent messages are counted and dropped") {
+TEST_CASE(
+    "duplicate, foreign, unknown, wrong-size and inconsistent messages are counted and dropped") {
   AssemblerConfig cfg;
   cfg.min_cameras = 1;
   Harness h(2, cfg);
@@ -145,8 +149,18 @@ TEST_CASE("duplicate, foreign, unknown, wrong-size and inconsistent messages are
   bad([](auto& m) { m.utime += 50'000; }, "inconsistent_utime");
   bad([](auto& m) { m.utime += 5'000'000; }, "implausible_time");
   bad([](auto& m) { m.payload[0] = 'X'; }, "decode_error");
-  bad([](auto& m) { m.payload.pop_back(); m.payload_size -= 1; }, "decode_error");
-  bad([](auto& m) { m.payload[4] = 0xFF; m.payload[5] = 0xFF; }, "decode_error");  // width 65535 > camera
+  bad(
+      [](auto& m) {
+        m.payload.pop_back();
+        m.payload_size -= 1;
+      },
+      "decode_error");
+  bad(
+      [](auto& m) {
+        m.payload[4] = 0xFF;
+        m.payload[5] = 0xFF;
+      },
+      "decode_error");  // width 65535 > camera
   REQUIRE(h.closed.empty());
   h.send(1, 5, 3);  // the real one still completes the frame
   REQUIRE(h.closed.size() == 1);
@@ -173,10 +187,18 @@ TEST_CASE("hostile bytes on the silhouette channel never crash or allocate wildl
         b = valid;
         const int32_t hostile[] = {0, -1, -100000, 0x7fffffff, 1 << 24};
         const int32_t v = hostile[rng() % 5];
-        const size_t rig_len_at = 16, payload_len_at = valid.size() - 24 - static_cast<size_t>(valid.size() - 24 - 16 - 4 - 5 - 4 - 8 - 8 - 24 - 1 - 4) + 0;
+        const size_t rig_len_at = 16,
+                     payload_len_at = valid.size() - 24 -
+                                      static_cast<size_t>(valid.size() - 24 - 16 - 4 - 5 - 4 - 8 -
+                                                          8 - 24 - 1 - 4) +
+                                      0;
         (void)payload_len_at;
-        const size_t at = (rng() % 2) ? rig_len_at : 16 + 4 + 5 + 4 + 8 + 8 + 24 + 1;  // rig_id length / payload_size
-        for (int k = 0; k < 4; ++k) b[at + static_cast<size_t>(k)] = static_cast<uint8_t>(static_cast<uint32_t>(v) >> (24 - 8 * k));
+        const size_t at = (rng() % 2)
+                              ? rig_len_at
+                              : 16 + 4 + 5 + 4 + 8 + 8 + 24 + 1;  // rig_id length / payload_size
+        for (int k = 0; k < 4; ++k)
+          b[at + static_cast<size_t>(k)] =
+              static_cast<uint8_t>(static_cast<uint32_t>(v) >> (24 - 8 * k));
         break;
       }
       default:  // random flips in a valid message
@@ -188,9 +210,10 @@ TEST_CASE("hostile bytes on the silhouette channel never crash or allocate wildl
   }
   h.fa.flush();
   const auto& c = h.fa.counters();
-  const int64_t dropped = c.get("malformed_lcm") + c.get("decode_error") + c.get("foreign_rig") + c.get("unknown_camera") +
-                          c.get("wrong_size") + c.get("bad_fields") + c.get("bad_encoding") + c.get("duplicate") +
-                          c.get("late") + c.get("inconsistent_utime") + c.get("implausible_time");
+  const int64_t dropped = c.get("malformed_lcm") + c.get("decode_error") + c.get("foreign_rig") +
+                          c.get("unknown_camera") + c.get("wrong_size") + c.get("bad_fields") +
+                          c.get("bad_encoding") + c.get("duplicate") + c.get("late") +
+                          c.get("inconsistent_utime") + c.get("implausible_time");
   CHECK(c.get("malformed_lcm") > 1500);
   // Every message is either dropped with a reason or accepted into a frame.
   int64_t accepted = 0;
@@ -213,7 +236,8 @@ TEST_CASE("open frames are capped: memory stays bounded under a flood of sequenc
   CHECK(h.fa.counters().get("late") == 1);
 }
 
-TEST_CASE("trigger announcements account for frames no silhouette reached; deadline from the trigger") {
+TEST_CASE(
+    "trigger announcements account for frames no silhouette reached; deadline from the trigger") {
   AssemblerConfig cfg;
   cfg.min_cameras = 1;
   cfg.deadline_from = DeadlineFrom::kTrigger;
@@ -262,12 +286,12 @@ TEST_CASE("while announcements flow, a silhouette must fit the trigger stream") 
     auto m = make_silhouette(h.rig, 0, seq, utime);
     h.fa.on_silhouette(m, utime, 10);
   };
-  send_at(99, kT0 + 99 * kP);             // fits
-  send_at(100'000, kT0 + 100 * kP);       // a flipped sequence number
-  send_at(101, kT0 + 99 * kP);            // a newer sequence at an older time
-  send_at(100, kT0 + 101 * kP);           // an announced sequence at another time
-  send_at(102, kT0 + 110 * kP);           // too far after the newest trigger
-  send_at(300, kT0 + 300 * kP);           // far ahead of the newest trigger
+  send_at(99, kT0 + 99 * kP);        // fits
+  send_at(100'000, kT0 + 100 * kP);  // a flipped sequence number
+  send_at(101, kT0 + 99 * kP);       // a newer sequence at an older time
+  send_at(100, kT0 + 101 * kP);      // an announced sequence at another time
+  send_at(102, kT0 + 110 * kP);      // too far after the newest trigger
+  send_at(300, kT0 + 300 * kP);      // far ahead of the newest trigger
   CHECK(h.fa.counters().get("implausible_time") == 5);
   h.fa.flush();
   REQUIRE(h.closed.size() == 2);  // 99 and the trigger-only 100
@@ -296,7 +320,9 @@ TEST_CASE("a restarted master (sequence back to 0, newer time) is followed") {
   CHECK(h.closed.size() == 2);
 }
 
-TEST_CASE("a master restart seen on TRIGGER (new epoch) closes the old run's frames and follows the new one") {
+TEST_CASE(
+    "a master restart seen on TRIGGER (new epoch) closes the old run's frames and follows the new "
+    "one") {
   AssemblerConfig cfg;
   cfg.min_cameras = 1;
   Harness h(2, cfg);

@@ -28,14 +28,30 @@ void* operator new[](std::size_t n) {
   if (void* p = counted_alloc(n)) return p;
   throw std::bad_alloc();
 }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n); }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return counted_alloc(n);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  return counted_alloc(n);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
 
 using namespace hullpose;
 
@@ -76,11 +92,14 @@ TEST_CASE("frame assembler: no allocation per frame at steady state, hostile mes
   fusion::AssemblerConfig cfg;
   cfg.min_cameras = 5;
   int64_t closed = 0;
-  fusion::FrameAssembler fa(rig, cfg, [&](const fusion::AssembledFrame& f) { closed += static_cast<int64_t>(f.views.size()); });
+  fusion::FrameAssembler fa(rig, cfg, [&](const fusion::AssembledFrame& f) {
+    closed += static_cast<int64_t>(f.views.size());
+  });
   const int64_t t0 = 1'700'000'000'000'000, p = 33'333;
   std::vector<std::vector<uint8_t>> msgs;
   for (int64_t seq = 0; seq < 300; ++seq)
-    for (int cam = 0; cam < 8; ++cam) msgs.push_back(testing::encode(testing::make_silhouette(rig, cam, seq, t0 + seq * p)));
+    for (int cam = 0; cam < 8; ++cam)
+      msgs.push_back(testing::encode(testing::make_silhouette(rig, cam, seq, t0 + seq * p)));
   std::vector<uint8_t> garbage(100, 0xAB);
   long before = 0;
   for (size_t i = 0; i < msgs.size(); ++i) {

@@ -40,7 +40,8 @@ void masks(benchmark::State& state, bool encode) {
   std::vector<Primitive> prims;
   cv::Mat mask;
   std::vector<uchar> png;
-  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE};
+  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY,
+                                   cv::IMWRITE_PNG_STRATEGY_RLE};
   int f = 0;
   for (auto _ : state) {
     fx.motion->sample((f++ % frames) / 30.0, q);
@@ -54,8 +55,12 @@ void masks(benchmark::State& state, bool encode) {
   state.counters["cameras"] = static_cast<double>(fx.views.size());
 }
 
-void BM_synth_masks_8cams(benchmark::State& state) { masks(state, false); }
-void BM_synth_masks_png_8cams(benchmark::State& state) { masks(state, true); }
+void BM_synth_masks_8cams(benchmark::State& state) {
+  masks(state, false);
+}
+void BM_synth_masks_png_8cams(benchmark::State& state) {
+  masks(state, true);
+}
 
 void BM_synth_rgb_8cams(benchmark::State& state) {
   cv::setNumThreads(1);
@@ -63,7 +68,8 @@ void BM_synth_rgb_8cams(benchmark::State& state) {
   static const Scene scene(SceneOptions{}, 1);
   static std::vector<std::unique_ptr<CameraRenderer>> cams;
   if (cams.empty())
-    for (const auto& c : fx.rig.cameras) cams.push_back(std::make_unique<CameraRenderer>(*fx.motion, fx.body, c, scene, 30));
+    for (const auto& c : fx.rig.cameras)
+      cams.push_back(std::make_unique<CameraRenderer>(*fx.motion, fx.body, c, scene, 30));
   const int frames = fx.motion->frame_count(30);
   JointPositions q;
   std::vector<Primitive> prims;

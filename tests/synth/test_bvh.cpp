@@ -17,10 +17,13 @@ namespace {
 // Root at (1, 2, 3) with ZYX channels, one child joint with ZXY channels, one End Site.
 std::string two_joint_bvh(const std::string& frames, const std::string& nl = "\n",
                           const std::string& child_channels = "Zrotation Xrotation Yrotation") {
-  std::string s = "HIERARCHY\nROOT Root\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
-                  "Zrotation Yrotation Xrotation\n  JOINT Arm\n  {\n    OFFSET 10 0 0\n    CHANNELS 3 " +
-                  child_channels + "\n    End Site\n    {\n      OFFSET 0 5 0\n    }\n  }\n}\nMOTION\nFrames: 2\n"
-                  "Frame Time: 0.0083333\n" + frames;
+  std::string s =
+      "HIERARCHY\nROOT Root\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
+      "Zrotation Yrotation Xrotation\n  JOINT Arm\n  {\n    OFFSET 10 0 0\n    CHANNELS 3 " +
+      child_channels +
+      "\n    End Site\n    {\n      OFFSET 0 5 0\n    }\n  }\n}\nMOTION\nFrames: 2\n"
+      "Frame Time: 0.0083333\n" +
+      frames;
   std::string out;
   for (char c : s) out += c == '\n' ? nl : std::string(1, c);
   return out;
@@ -58,7 +61,8 @@ TEST_CASE("forward kinematics of a hand-made clip gives the hand-computed positi
 TEST_CASE("channel order matters: ZYX and ZXY compose differently") {
   const std::string frames = "0 0 0 0 0 0 90 90 0\n0 0 0 0 0 0 90 90 0\n";
   const BvhClip zxy = parse_bvh(two_joint_bvh(frames), "zxy.bvh");
-  const BvhClip zyx = parse_bvh(two_joint_bvh(frames, "\n", "Zrotation Yrotation Xrotation"), "zyx.bvh");
+  const BvhClip zyx =
+      parse_bvh(two_joint_bvh(frames, "\n", "Zrotation Yrotation Xrotation"), "zyx.bvh");
   std::vector<Eigen::Matrix3d> r;
   std::vector<Eigen::Vector3d> a, b;
   zxy.forward_kinematics(0, r, a);
@@ -79,11 +83,13 @@ TEST_CASE("CRLF and mixed line endings parse like LF") {
 TEST_CASE("bad BVH files give errors naming the line or joint") {
   SECTION("unknown channel") {
     const std::string e = error_of(two_joint_bvh(kFrames, "\n", "Zrotation Wrotation Yrotation"));
-    CHECK_THAT(e, Contains("bad.bvh:9") && Contains("unknown channel 'Wrotation'") && Contains("Arm"));
+    CHECK_THAT(e,
+               Contains("bad.bvh:9") && Contains("unknown channel 'Wrotation'") && Contains("Arm"));
   }
   SECTION("NaN in the motion") {
     const std::string e = error_of(two_joint_bvh("1 2 3 0 0 0 0 0 0\n1 2 3 0 nan 0 0 0 0\n"));
-    CHECK_THAT(e, Contains("bad.bvh:20") && Contains("joint Root Yrotation") && Contains("not finite"));
+    CHECK_THAT(
+        e, Contains("bad.bvh:20") && Contains("joint Root Yrotation") && Contains("not finite"));
   }
   SECTION("a short motion line") {
     const std::string e = error_of(two_joint_bvh("1 2 3 0 0 0 0 0 0\n1 2 3 0 0 0 0\n"));
@@ -109,6 +115,7 @@ TEST_CASE("bad BVH files give errors naming the line or joint") {
   }
   SECTION("no known naming scheme") {
     const BvhClip clip = parse_bvh(two_joint_bvh(kFrames), "two.bvh");
-    CHECK_THROWS_WITH(make_bvh_motion(clip, {}), Contains("two.bvh") && Contains("unknown joint naming scheme"));
+    CHECK_THROWS_WITH(make_bvh_motion(clip, {}),
+                      Contains("two.bvh") && Contains("unknown joint naming scheme"));
   }
 }

@@ -23,7 +23,8 @@ TEST_CASE("a clip missing a mapped joint names the joint") {
   const int i = clip.find("LeftForeArm");
   REQUIRE(i >= 0);
   clip.joints[static_cast<size_t>(i)].name = "LeftLowerArm";
-  CHECK_THROWS_WITH(make_bvh_motion(clip, {}), Contains("missing joint 'LeftForeArm'") && Contains("LElb"));
+  CHECK_THROWS_WITH(make_bvh_motion(clip, {}),
+                    Contains("missing joint 'LeftForeArm'") && Contains("LElb"));
 }
 
 // An independent FK: homogeneous 4x4 transforms built channel by channel.
@@ -34,16 +35,29 @@ Eigen::Vector3d fk_homogeneous(const BvhClip& clip, int frame, int joint) {
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
     m.block<3, 1>(0, 3) = j.offset;
     for (size_t c = 0; c < j.channels.size(); ++c) {
-      const double v = clip.motion[static_cast<size_t>(frame * clip.channel_count + j.first_channel) + c];
+      const double v =
+          clip.motion[static_cast<size_t>(frame * clip.channel_count + j.first_channel) + c];
       Eigen::Matrix4d step = Eigen::Matrix4d::Identity();
       const double a = v * M_PI / 180;
       switch (j.channels[c]) {
-        case BvhChannel::Xposition: step(0, 3) = v; break;
-        case BvhChannel::Yposition: step(1, 3) = v; break;
-        case BvhChannel::Zposition: step(2, 3) = v; break;
-        case BvhChannel::Xrotation: step.block<3, 3>(0, 0) << 1, 0, 0, 0, cos(a), -sin(a), 0, sin(a), cos(a); break;
-        case BvhChannel::Yrotation: step.block<3, 3>(0, 0) << cos(a), 0, sin(a), 0, 1, 0, -sin(a), 0, cos(a); break;
-        case BvhChannel::Zrotation: step.block<3, 3>(0, 0) << cos(a), -sin(a), 0, sin(a), cos(a), 0, 0, 0, 1; break;
+        case BvhChannel::Xposition:
+          step(0, 3) = v;
+          break;
+        case BvhChannel::Yposition:
+          step(1, 3) = v;
+          break;
+        case BvhChannel::Zposition:
+          step(2, 3) = v;
+          break;
+        case BvhChannel::Xrotation:
+          step.block<3, 3>(0, 0) << 1, 0, 0, 0, cos(a), -sin(a), 0, sin(a), cos(a);
+          break;
+        case BvhChannel::Yrotation:
+          step.block<3, 3>(0, 0) << cos(a), 0, sin(a), 0, 1, 0, -sin(a), 0, cos(a);
+          break;
+        case BvhChannel::Zrotation:
+          step.block<3, 3>(0, 0) << cos(a), -sin(a), 0, sin(a), cos(a), 0, 0, 0, 1;
+          break;
       }
       m = m * step;
     }

@@ -22,7 +22,8 @@ namespace {
 struct TempDir {
   fs::path path;
   explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() / ("hullpose-synth-" + tag + "-" + std::to_string(::getpid()))) {
+      : path(fs::temp_directory_path() /
+             ("hullpose-synth-" + tag + "-" + std::to_string(::getpid()))) {
     fs::remove_all(path);
   }
   ~TempDir() { fs::remove_all(path); }
@@ -85,7 +86,9 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
     JointPositions q;
     motion->sample(f / 30.0, q);
     CHECK(gt[static_cast<size_t>(f)].utime == meta.start_utime + std::llround(f * 1e6 / 30));
-    for (int j = 0; j < kNumJoints; ++j) CHECK((gt[static_cast<size_t>(f)].joints[static_cast<size_t>(j)] - q[static_cast<size_t>(j)]).norm() < 1e-3);
+    for (int j = 0; j < kNumJoints; ++j)
+      CHECK((gt[static_cast<size_t>(f)].joints[static_cast<size_t>(j)] - q[static_cast<size_t>(j)])
+                .norm() < 1e-3);
     pose_avatar(body, q, prims);
     for (const auto& cam : rig.cameras) {
       INFO("camera " << cam.id << " frame " << f);
@@ -108,10 +111,12 @@ TEST_CASE("a dataset round-trips through disk: rig, meta, ground truth, masks, c
   CHECK_FALSE(fs::exists(paths.background(3, 2)));
 }
 
-TEST_CASE("faults: dropped frames, a dark camera, calibration error, silhouette noise; all seeded") {
+TEST_CASE(
+    "faults: dropped frames, a dark camera, calibration error, silhouette noise; all seeded") {
   TempDir a("faults-a"), b("faults-b"), c("faults-c");
   SynthConfig cfg = small(a.path);
-  cfg.faults = FaultSpec::parse("drop=0.3,dark=2@1,calib_px=2,calib_deg=0.5,salt=0.001,pepper=0.02,blobs=2,holes=2");
+  cfg.faults = FaultSpec::parse(
+      "drop=0.3,dark=2@1,calib_px=2,calib_deg=0.5,salt=0.001,pepper=0.02,blobs=2,holes=2");
   write_dataset(cfg);
   cfg.out = b.path;
   write_dataset(cfg);  // same seed: identical bytes
@@ -130,8 +135,10 @@ TEST_CASE("faults: dropped frames, a dark camera, calibration error, silhouette 
       if (dropped) continue;
       ++present;
       CHECK(file_bytes(pa.mask(cam, f)) == file_bytes(pb.mask(cam, f)));
-      if (fs::exists(pc.mask(cam, f))) differ += file_bytes(pa.mask(cam, f)) != file_bytes(pc.mask(cam, f));
-      if (cam == 2 && f >= 1) CHECK(cv::countNonZero(cv::imread(pa.mask(cam, f).string(), cv::IMREAD_GRAYSCALE)) == 0);
+      if (fs::exists(pc.mask(cam, f)))
+        differ += file_bytes(pa.mask(cam, f)) != file_bytes(pc.mask(cam, f));
+      if (cam == 2 && f >= 1)
+        CHECK(cv::countNonZero(cv::imread(pa.mask(cam, f).string(), cv::IMREAD_GRAYSCALE)) == 0);
     }
   CHECK(present > 6);
   CHECK(present < 18);

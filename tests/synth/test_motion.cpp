@@ -65,7 +65,9 @@ TEST_CASE("speed and stride parameters change the motion") {
   JointPositions qa, qb;
   a->sample(2.0, qa);
   b->sample(1.0, qb);
-  CHECK((qa[index(Joint::LBack)] - qb[index(Joint::LBack)]).norm() < 1e-6);  // same path, twice the pace
-  CHECK_THROWS_WITH(make_builtin_motion("moonwalk", {}), Contains("unknown motion 'moonwalk'") && Contains("walk"));
+  CHECK((qa[index(Joint::LBack)] - qb[index(Joint::LBack)]).norm() <
+        1e-6);  // same path, twice the pace
+  CHECK_THROWS_WITH(make_builtin_motion("moonwalk", {}),
+                    Contains("unknown motion 'moonwalk'") && Contains("walk"));
   CHECK_THROWS_WITH(make_motion("missing.bvh", {}), Contains("missing.bvh"));
 }

@@ -68,7 +68,8 @@ TEST_CASE("a sphere's mask matches its analytic projection within 0.5 px") {
         if (std::abs(d) <= 0.5) continue;  // within half a pixel of the outline: either is right
         ++checked;
         inside += d > 0;
-        if ((mask.at<uint8_t>(v, u) == 255) != (d > 0)) FAIL("pixel " << u << "," << v << " distance " << d);
+        if ((mask.at<uint8_t>(v, u) == 255) != (d > 0))
+          FAIL("pixel " << u << "," << v << " distance " << d);
       }
     CHECK(inside > 1000);
     CHECK(checked > 3000);
@@ -91,7 +92,8 @@ TEST_CASE("a capsule's mask matches its analytic projection within 0.5 px") {
 
     // Rays from OpenCV's undistortion; for a distorted camera the renderer uses it too, the
     // undistorted case checks the renderer's own ray map independently.
-    const std::vector<cv::Point2f> ends = cv_project(cam, {{a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}});
+    const std::vector<cv::Point2f> ends =
+        cv_project(cam, {{a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}});
     cv::Rect box = cv::boundingRect(ends);
     box = (box + cv::Size(160, 160) - cv::Point(80, 80)) & cv::Rect(0, 0, cam.width, cam.height);
     std::vector<cv::Point2f> pixels;
@@ -99,16 +101,19 @@ TEST_CASE("a capsule's mask matches its analytic projection within 0.5 px") {
       for (int u = box.x; u < box.br().x; ++u) pixels.emplace_back(u, v);
     cv::Mat K, dist;
     cv::eigen2cv(cam.K(), K);
-    dist = (cv::Mat_<double>(1, 5) << cam.dist[0], cam.dist[1], cam.dist[2], cam.dist[3], cam.dist[4]);
+    dist =
+        (cv::Mat_<double>(1, 5) << cam.dist[0], cam.dist[1], cam.dist[2], cam.dist[3], cam.dist[4]);
     std::vector<cv::Point2f> norm;
-    cv::undistortPoints(pixels, norm, K, dist, cv::noArray(), cv::noArray(),
-                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12));
+    cv::undistortPoints(
+        pixels, norm, K, dist, cv::noArray(), cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12));
     // Distance from the ray to the segment by golden-section search over the segment
     // parameter (the squared distance is convex in it); plain doubles keep debug builds fast.
     const Eigen::Vector3d o = cam.centre();
     int inside = 0, checked = 0;
     for (size_t k = 0; k < pixels.size(); ++k) {
-      const Eigen::Vector3d dv = (cam.R.transpose() * Eigen::Vector3d(norm[k].x, norm[k].y, 1)).normalized();
+      const Eigen::Vector3d dv =
+          (cam.R.transpose() * Eigen::Vector3d(norm[k].x, norm[k].y, 1)).normalized();
       const double d[3] = {dv.x(), dv.y(), dv.z()};
       double depth = 0;
       auto dist2 = [&](double s, double& t) {
@@ -123,7 +128,10 @@ TEST_CASE("a capsule's mask matches its analytic projection within 0.5 px") {
       for (int it = 0; it < 60; ++it) {
         const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
         double t1, t2;
-        if (dist2(m1, t1) < dist2(m2, t2)) hi = m2; else lo = m1;
+        if (dist2(m1, t1) < dist2(m2, t2))
+          hi = m2;
+        else
+          lo = m1;
       }
       const double best = dist2(0.5 * (lo + hi), depth);
       // Half a pixel at this depth, in mm (plus the sampling error of the segment).
@@ -133,7 +141,8 @@ TEST_CASE("a capsule's mask matches its analytic projection within 0.5 px") {
       ++checked;
       inside += gap < 0;
       const bool rendered = mask.at<uint8_t>(cvRound(pixels[k].y), cvRound(pixels[k].x)) == 255;
-      if (rendered != (gap < 0)) FAIL("pixel " << pixels[k].x << "," << pixels[k].y << " gap " << gap << " mm");
+      if (rendered != (gap < 0))
+        FAIL("pixel " << pixels[k].x << "," << pixels[k].y << " gap " << gap << " mm");
     }
     CHECK(inside > 1000);
     cv::Mat outside = mask.clone();
@@ -142,24 +151,29 @@ TEST_CASE("a capsule's mask matches its analytic projection within 0.5 px") {
   }
 }
 
-TEST_CASE("an ellipsoid renders as the union-free analytic conic; layers pick the nearest surface") {
+TEST_CASE(
+    "an ellipsoid renders as the union-free analytic conic; layers pick the nearest surface") {
   const CameraModel cam = test_camera(false);
   ViewRenderer view(cam);
   // An ellipsoid that is a sphere in disguise must render exactly like the sphere.
   const Eigen::Vector3d c(0, 0, 1000);
-  Eigen::Matrix3d axes = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix() * 200.0;
+  Eigen::Matrix3d axes =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix() * 200.0;
   cv::Mat m1, m2;
   view.render_mask({Primitive::ellipsoid(c, axes, Material::Shirt)}, m1);
   view.render_mask({Primitive::sphere(c, 200, Material::Shirt)}, m2);
-  CHECK(cv::norm(m1, m2, cv::NORM_L1) <= 255 * 4);  // float rounding may flip a boundary pixel or two
+  CHECK(cv::norm(m1, m2, cv::NORM_L1) <=
+        255 * 4);  // float rounding may flip a boundary pixel or two
   // Two spheres, the nearer one in front: its material wins where they overlap.
   const Eigen::Vector3d towards_cam = (cam.centre() - c).normalized();
   cv::Mat mask, material, facing;
-  view.render_layers({Primitive::sphere(c, 200, Material::Shirt), Primitive::sphere(c + towards_cam * 500, 100, Material::Skin)},
+  view.render_layers({Primitive::sphere(c, 200, Material::Shirt),
+                      Primitive::sphere(c + towards_cam * 500, 100, Material::Skin)},
                      mask, material, facing);
   const auto px = cam.project(c);
   REQUIRE(px);
-  CHECK(material.at<uint8_t>(cvRound(px->y()), cvRound(px->x())) == static_cast<uint8_t>(Material::Skin));
+  CHECK(material.at<uint8_t>(cvRound(px->y()), cvRound(px->x())) ==
+        static_cast<uint8_t>(Material::Skin));
   CHECK(facing.at<float>(cvRound(px->y()), cvRound(px->x())) > 0.99f);
   CHECK(cv::countNonZero(mask) == cv::countNonZero(material != 255));
 }

@@ -46,7 +46,8 @@ TEST_CASE("a generated rig round-trips through the rig file; tilt and bad specs"
   spec.k1 = -0.05;
   const Rig rig = make_ring_rig(spec);
   CHECK(rig.cameras.size() == 5);
-  const fs::path file = fs::temp_directory_path() / ("hullpose-rig-gen-" + std::to_string(::getpid()) + ".yaml");
+  const fs::path file =
+      fs::temp_directory_path() / ("hullpose-rig-gen-" + std::to_string(::getpid()) + ".yaml");
   save_rig(rig, file);
   CHECK(rig_from_name_or_file(file.string()) == rig);
   fs::remove(file);
@@ -59,5 +60,6 @@ TEST_CASE("a generated rig round-trips through the rig file; tilt and bad specs"
   const Rig parsed = rig_from_name_or_file("ring:cameras=5,ceiling=0,tilt=10,k1=-0.05");
   REQUIRE(parsed.cameras.size() == 5);
   CHECK(parsed.cameras[3] == rig.cameras[3]);
-  CHECK_THROWS_WITH(rig_from_name_or_file("ring:cameras=5,zoom=2"), Catch::Matchers::Contains("unknown key 'zoom'"));
+  CHECK_THROWS_WITH(rig_from_name_or_file("ring:cameras=5,zoom=2"),
+                    Catch::Matchers::Contains("unknown key 'zoom'"));
 }

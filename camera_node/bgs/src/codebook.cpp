@@ -42,7 +42,8 @@ void Codebook::learn(const cv::Mat& bgr) {
   for (int y = 0; y < size_.height; ++y) {
     const uint8_t* row = bgr.ptr<uint8_t>(y);
     for (int x = 0; x < size_.width; ++x) {
-      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
+      const size_t i =
+          static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
       const float b = row[3 * x], g = row[3 * x + 1], r = row[3 * x + 2];
       const float n2 = r * r + g * g + b * b;
       const float bright = std::sqrt(n2);
@@ -74,7 +75,8 @@ void Codebook::learn(const cv::Mat& bgr) {
       if (count == slots_) {  // full: replace the codeword that has been absent longest
         slot = 0;
         for (int k = 1; k < count; ++k)
-          if (std::max(cw[k].lambda, t - cw[k].q) > std::max(cw[slot].lambda, t - cw[slot].q)) slot = k;
+          if (std::max(cw[k].lambda, t - cw[k].q) > std::max(cw[slot].lambda, t - cw[slot].q))
+            slot = k;
       } else {
         count_[i] = static_cast<uint8_t>(count + 1);
       }
@@ -100,7 +102,8 @@ void Codebook::end_learning() {
       cw[k].lambda = std::max(cw[k].lambda, frames_ - cw[k].q + cw[k].p - 1);
       if (cw[k].lambda <= std::max(1, frames_ / 2)) order[static_cast<size_t>(kept++)] = k;
     }
-    std::sort(order.begin(), order.begin() + kept, [cw](int a, int b) { return cw[a].f > cw[b].f; });
+    std::sort(order.begin(), order.begin() + kept,
+              [cw](int a, int b) { return cw[a].f > cw[b].f; });
     for (int k = 0; k < kmax_; ++k) {
       float* u0 = &planes_[static_cast<size_t>(5 * k)][i];
       if (k >= kept) {  // no codeword: a band that nothing falls in
@@ -133,7 +136,8 @@ double Codebook::mean_codewords() const {
 }
 
 void Codebook::apply(const cv::Mat& bgr, cv::Mat& mask) {
-  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
+  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ &&
+                  mask.type() == CV_8UC1);
   HULLPOSE_ASSERT(mask.isContinuous() && kmax_ > 0);
   cv::split(bgr, split_);
   const size_t n = static_cast<size_t>(size_.area());

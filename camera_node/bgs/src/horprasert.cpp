@@ -12,7 +12,8 @@ HorprasertParams HorprasertParams::from(const Params& p) {
   HorprasertParams h;
   h.detection_rate = p.get_double("detection_rate", h.detection_rate, 0.5, 1.0);
   h.min_sigma = p.get_double("min_sigma", h.min_sigma, 0.1, 64.0);
-  h.min_shadow_brightness = p.get_double("min_shadow_brightness", h.min_shadow_brightness, 0.0, 1.0);
+  h.min_shadow_brightness =
+      p.get_double("min_shadow_brightness", h.min_shadow_brightness, 0.0, 1.0);
   h.cd_scale = p.get_double("cd_scale", h.cd_scale, 0.1, 100.0);
   p.expect_all_used();
   return h;
@@ -44,8 +45,10 @@ namespace {
 // Value below which `fraction` of the samples lie (samples are reordered).
 float quantile(std::vector<float>& samples, double fraction) {
   if (samples.empty()) return 0.f;
-  const size_t k = std::min(samples.size() - 1, static_cast<size_t>(fraction * static_cast<double>(samples.size())));
-  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(k), samples.end());
+  const size_t k = std::min(samples.size() - 1,
+                            static_cast<size_t>(fraction * static_cast<double>(samples.size())));
+  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(k),
+                   samples.end());
   return samples[k];
 }
 
@@ -67,7 +70,8 @@ void Horprasert::end_learning() {
     for (int y = 0; y < size_.height; ++y) {
       const uint8_t* row = f.ptr<uint8_t>(y);
       for (int x = 0; x < size_.width; ++x) {
-        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
+        const size_t i =
+            static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
         for (int c = 0; c < 3; ++c) {
           const double v = row[3 * x + c];
           sum[c][i] += v;
@@ -100,7 +104,8 @@ void Horprasert::end_learning() {
     for (int y = 0; y < size_.height; ++y) {
       const uint8_t* row = learnt_[f].ptr<uint8_t>(y);
       for (int x = 0; x < size_.width; ++x) {
-        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
+        const size_t i =
+            static_cast<size_t>(y) * static_cast<size_t>(size_.width) + static_cast<size_t>(x);
         float xs[3], dot = 0.f;
         for (int c = 0; c < 3; ++c) {
           xs[c] = static_cast<float>(row[3 * x + c]) * inv_sigma_[c][i];
@@ -120,7 +125,8 @@ void Horprasert::end_learning() {
   // a zero-width band: one grey level of noise relative to the mean.
   std::vector<float> a(n), b(n);
   for (size_t i = 0; i < n; ++i) {
-    const float mu_norm = std::sqrt(mean[0][i] * mean[0][i] + mean[1][i] * mean[1][i] + mean[2][i] * mean[2][i]);
+    const float mu_norm =
+        std::sqrt(mean[0][i] * mean[0][i] + mean[1][i] * mean[1][i] + mean[2][i] * mean[2][i]);
     a[i] = std::max(static_cast<float>(std::sqrt(a2[i] / frames)), 1.f / std::max(mu_norm, 1.f));
     b[i] = std::max(static_cast<float>(std::sqrt(b2[i] / frames)), 0.1f);
   }
@@ -148,11 +154,13 @@ namespace {
 
 // Hot loop: straight-line float arithmetic, no branches, every pointer a __restrict parameter
 // (GCC honours restrict only on parameters), so it vectorises.
-void classify(size_t n, const uint8_t* __restrict p0, const uint8_t* __restrict p1, const uint8_t* __restrict p2,
-              const float* __restrict is0, const float* __restrict is1, const float* __restrict is2,
-              const float* __restrict m0, const float* __restrict m1, const float* __restrict m2,
-              const float* __restrict im2, const float* __restrict cdmax, const float* __restrict alo,
-              const float* __restrict ahi, float min_alpha, uint8_t* __restrict cls, uint8_t* __restrict out) {
+void classify(size_t n, const uint8_t* __restrict p0, const uint8_t* __restrict p1,
+              const uint8_t* __restrict p2, const float* __restrict is0,
+              const float* __restrict is1, const float* __restrict is2, const float* __restrict m0,
+              const float* __restrict m1, const float* __restrict m2, const float* __restrict im2,
+              const float* __restrict cdmax, const float* __restrict alo,
+              const float* __restrict ahi, float min_alpha, uint8_t* __restrict cls,
+              uint8_t* __restrict out) {
   for (size_t i = 0; i < n; ++i) {
     const float x0 = static_cast<float>(p0[i]) * is0[i];
     const float x1 = static_cast<float>(p1[i]) * is1[i];
@@ -162,7 +170,8 @@ void classify(size_t n, const uint8_t* __restrict p0, const uint8_t* __restrict 
     const float cd2 = d0 * d0 + d1 * d1 + d2 * d2;
     const int fg = (cd2 > cdmax[i]) | (al < min_alpha);
     const int bg = (al >= alo[i]) & (al <= ahi[i]);
-    // kForeground if fg, else kBackground if bg, else kShadow (darker) or kHighlight, as arithmetic.
+    // kForeground if fg, else kBackground if bg, else kShadow (darker) or kHighlight, as
+    // arithmetic.
     const int fg_bits = -fg & 0xff;
     cls[i] = static_cast<uint8_t>(((2 - (al < 1.f)) * (1 - bg)) | fg_bits);
     out[i] = static_cast<uint8_t>(fg_bits);
@@ -172,13 +181,16 @@ void classify(size_t n, const uint8_t* __restrict p0, const uint8_t* __restrict 
 }  // namespace
 
 void Horprasert::apply(const cv::Mat& bgr, cv::Mat& mask) {
-  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
+  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ &&
+                  mask.type() == CV_8UC1);
   HULLPOSE_ASSERT(mask.isContinuous());
   cv::split(bgr, planes_);  // SIMD in OpenCV; planes_ are preallocated
   classify(static_cast<size_t>(size_.area()), planes_[0].ptr<uint8_t>(), planes_[1].ptr<uint8_t>(),
-           planes_[2].ptr<uint8_t>(), inv_sigma_[0].data(), inv_sigma_[1].data(), inv_sigma_[2].data(), m_[0].data(),
-           m_[1].data(), m_[2].data(), inv_m2_.data(), cd2_max_.data(), alpha_lo_.data(), alpha_hi_.data(),
-           static_cast<float>(params_.min_shadow_brightness), classes_.ptr<uint8_t>(), mask.ptr<uint8_t>());
+           planes_[2].ptr<uint8_t>(), inv_sigma_[0].data(), inv_sigma_[1].data(),
+           inv_sigma_[2].data(), m_[0].data(), m_[1].data(), m_[2].data(), inv_m2_.data(),
+           cd2_max_.data(), alpha_lo_.data(), alpha_hi_.data(),
+           static_cast<float>(params_.min_shadow_brightness), classes_.ptr<uint8_t>(),
+           mask.ptr<uint8_t>());
 }
 
 }  // namespace hullpose::camera_node

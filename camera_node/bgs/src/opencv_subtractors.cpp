@@ -10,7 +10,8 @@ OpenCvSubtractor::OpenCvSubtractor(Kind kind, const Params& params) : kind_(kind
   history_ = params.get_int("history", 500, 1, 100000);
   // MOG2: squared Mahalanobis distance (OpenCV default 16); KNN: squared distance (default 400).
   threshold_ = params.get_double("threshold", kind == Kind::kMog2 ? 16.0 : 400.0, 0.01, 1e6);
-  learning_rate_ = params.get_double("learning_rate", -1.0, -1.0, 1.0);  // -1: OpenCV's automatic rate
+  learning_rate_ =
+      params.get_double("learning_rate", -1.0, -1.0, 1.0);  // -1: OpenCV's automatic rate
   params.expect_all_used();
 }
 

@@ -17,22 +17,28 @@ struct Entry {
 };
 
 const Entry kMethods[] = {
-    {"horprasert", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"horprasert",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<Horprasert>(HorprasertParams::from(p));
      }},
-    {"codebook", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"codebook",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<Codebook>(CodebookParams::from(p));
      }},
-    {"sobs", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"sobs",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<Sobs>(SobsParams::from(p));
      }},
-    {"mog2", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"mog2",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<OpenCvSubtractor>(OpenCvSubtractor::Kind::kMog2, p);
      }},
-    {"knn", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"knn",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<OpenCvSubtractor>(OpenCvSubtractor::Kind::kKnn, p);
      }},
-    {"threshold", [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
+    {"threshold",
+     [](const Params& p) -> std::unique_ptr<BackgroundSubtractor> {
        return std::make_unique<ThresholdSubtractor>(p);
      }},
 };
@@ -45,7 +51,8 @@ std::vector<std::string> subtractor_names() {
   return names;
 }
 
-std::unique_ptr<BackgroundSubtractor> make_subtractor(const std::string& method, const Params& params) {
+std::unique_ptr<BackgroundSubtractor> make_subtractor(const std::string& method,
+                                                      const Params& params) {
   for (const Entry& e : kMethods)
     if (method == e.name) return e.make(params);
   std::string known;

@@ -20,8 +20,9 @@ SobsParams SobsParams::from(const Params& p) {
   s.shadow_s_max = p.get_double("shadow_s_max", s.shadow_s_max, 0.0, 1.0);
   s.shadow_h_max = p.get_double("shadow_h_max", s.shadow_h_max, 0.0, std::numbers::pi);
   p.expect_all_used();
-  HULLPOSE_THROW_UNLESS(s.shadow_v_min <= s.shadow_v_max,
-                        p.scope() << ".shadow_v_min: must not exceed shadow_v_max (" << s.shadow_v_max << ")");
+  HULLPOSE_THROW_UNLESS(
+      s.shadow_v_min <= s.shadow_v_max,
+      p.scope() << ".shadow_v_min: must not exceed shadow_v_max (" << s.shadow_v_max << ")");
   return s;
 }
 
@@ -34,7 +35,9 @@ constexpr float kNeverMatches = 1e15f;  // padding lane: its distance to any col
 
 using Vec4i = int32_t __attribute__((vector_size(16)));
 
-inline Vec4 splat(float f) { return Vec4{f, f, f, f}; }
+inline Vec4 splat(float f) {
+  return Vec4{f, f, f, f};
+}
 
 // The HSV cone point of a BGR pixel. Hue and chroma come from the opponent axes
 // (R - (G+B)/2, sqrt(3)/2 (G - B)) — the chroma plane of the HSV hexcone (Hanbury 2003) —
@@ -62,7 +65,8 @@ inline void blend(Block& b, Vec4 w, Vec4 px, Vec4 py, Vec4 pv) {
 void Sobs::begin_learning(cv::Size size) {
   size_ = size;
   learnt_ = 0;
-  const size_t rows = 3 * static_cast<size_t>(size.height) + 2, cols = static_cast<size_t>(size.width) + 2;
+  const size_t rows = 3 * static_cast<size_t>(size.height) + 2,
+               cols = static_cast<size_t>(size.width) + 2;
   map_.assign(rows * cols, Block{splat(kNeverMatches), splat(0.f), splat(0.f)});
 }
 
@@ -74,7 +78,8 @@ void Sobs::learn(const cv::Mat& bgr) {
       for (int x = 0; x < size_.width; ++x) {
         const Vec4 c = cone(bgr.ptr<uint8_t>(y) + 3 * x);
         for (size_t b = 0; b < 3; ++b) {
-          Block& blk = map_[(3 * static_cast<size_t>(y) + b + 1) * cols + static_cast<size_t>(x) + 1];
+          Block& blk =
+              map_[(3 * static_cast<size_t>(y) + b + 1) * cols + static_cast<size_t>(x) + 1];
           blk.x = Vec4{c[0], c[0], c[0], kNeverMatches};
           blk.y = splat(c[1]);
           blk.v = splat(c[2]);
@@ -86,11 +91,15 @@ void Sobs::learn(const cv::Mat& bgr) {
   step(bgr, static_cast<float>(params_.epsilon_learn), static_cast<float>(alpha), nullptr);
 }
 
-void Sobs::end_learning() { HULLPOSE_THROW_UNLESS(learnt_ > 0, "sobs: no background frame was learnt"); }
+void Sobs::end_learning() {
+  HULLPOSE_THROW_UNLESS(learnt_ > 0, "sobs: no background frame was learnt");
+}
 
 void Sobs::apply(const cv::Mat& bgr, cv::Mat& mask) {
-  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ && mask.type() == CV_8UC1);
-  step(bgr, static_cast<float>(params_.epsilon_online), static_cast<float>(params_.alpha_online), &mask);
+  HULLPOSE_ASSERT(bgr.type() == CV_8UC3 && bgr.size() == size_ && mask.size() == size_ &&
+                  mask.type() == CV_8UC1);
+  step(bgr, static_cast<float>(params_.epsilon_online), static_cast<float>(params_.alpha_online),
+       &mask);
 }
 
 // One pass of the network over a frame. Written by hand: it is the method
@@ -115,8 +124,10 @@ void Sobs::step(const cv::Mat& bgr, float epsilon, float alpha, cv::Mat* mask) {
       side[a][dy] = s * splat(alpha * row_w[dy]);
     }
   }
-  const float v_min = static_cast<float>(params_.shadow_v_min), v_max = static_cast<float>(params_.shadow_v_max);
-  const float s_max = static_cast<float>(params_.shadow_s_max), h_max = static_cast<float>(params_.shadow_h_max);
+  const float v_min = static_cast<float>(params_.shadow_v_min),
+              v_max = static_cast<float>(params_.shadow_v_max);
+  const float s_max = static_cast<float>(params_.shadow_s_max),
+              h_max = static_cast<float>(params_.shadow_h_max);
   for (int y = 0; y < size_.height; ++y) {
     uint8_t* out = mask ? mask->ptr<uint8_t>(y) : nullptr;
     const uint8_t* in = bgr.ptr<uint8_t>(y);
@@ -125,7 +136,8 @@ void Sobs::step(const cv::Mat& bgr, float epsilon, float alpha, cv::Mat* mask) {
       const Vec4 p = cone(in + 3 * x);
       const Vec4 px = splat(p[0]), py = splat(p[1]), pv = splat(p[2]);
       Block* r0 = row0 + x;
-      const Vec4 d0 = dist2(r0[0], px, py, pv), d1 = dist2(r0[cols], px, py, pv), d2 = dist2(r0[2 * cols], px, py, pv);
+      const Vec4 d0 = dist2(r0[0], px, py, pv), d1 = dist2(r0[cols], px, py, pv),
+                 d2 = dist2(r0[2 * cols], px, py, pv);
       // Branch-free argmin over the nine cells (the winner is data, not a predictable branch):
       // per lane the best row, then the best lane.
       const Vec4i take1 = d1 < d0;
@@ -145,7 +157,8 @@ void Sobs::step(const cv::Mat& bgr, float epsilon, float alpha, cv::Mat* mask) {
       if (best <= epsilon) {
         if (out) out[x] = 0;
         for (int dy = 0; dy < 3; ++dy) {
-          Block* t = centre + static_cast<std::ptrdiff_t>(dy - 1) * static_cast<std::ptrdiff_t>(cols);
+          Block* t =
+              centre + static_cast<std::ptrdiff_t>(dy - 1) * static_cast<std::ptrdiff_t>(cols);
           blend(t[0], own[a][dy], px, py, pv);
           blend(t[side_offset[a]], side[a][dy], px, py, pv);
         }

@@ -19,7 +19,9 @@ void Params::set(std::string key, std::string value) {
   used_.push_back(false);
 }
 
-bool Params::has(std::string_view key) const { return find(key) != nullptr; }
+bool Params::has(std::string_view key) const {
+  return find(key) != nullptr;
+}
 
 const std::string* Params::find(std::string_view key) const {
   for (size_t i = 0; i < values_.size(); ++i) {
@@ -52,7 +54,8 @@ int Params::get_int(std::string_view key, int fallback, int min, int max) const 
   int out = 0;
   const char* end = v->data() + v->size();
   auto [ptr, ec] = std::from_chars(v->data(), end, out);
-  HULLPOSE_THROW_UNLESS(ec == std::errc() && ptr == end, field(key) << ": must be an integer, got '" << *v << "'");
+  HULLPOSE_THROW_UNLESS(ec == std::errc() && ptr == end,
+                        field(key) << ": must be an integer, got '" << *v << "'");
   HULLPOSE_THROW_UNLESS(out >= min && out <= max,
                         field(key) << ": must be in [" << min << ", " << max << "], got " << out);
   return out;

@@ -1,5 +1,6 @@
 #include "hullpose/camera_node/libcamera_source.hpp"
 
+#include <libcamera/libcamera.h>
 #include <sys/mman.h>
 
 #include <chrono>
@@ -7,7 +8,6 @@
 #include <ctime>
 #include <deque>
 #include <fstream>
-#include <libcamera/libcamera.h>
 #include <mutex>
 
 #include "hullpose/common/check.hpp"
@@ -22,7 +22,8 @@ int64_t boottime_to_epoch_us() {
   timespec boot{}, real{};
   clock_gettime(CLOCK_BOOTTIME, &boot);
   clock_gettime(CLOCK_REALTIME, &real);
-  return (static_cast<int64_t>(real.tv_sec) - boot.tv_sec) * 1000000 + (real.tv_nsec - boot.tv_nsec) / 1000;
+  return (static_cast<int64_t>(real.tv_sec) - boot.tv_sec) * 1000000 +
+         (real.tv_nsec - boot.tv_nsec) / 1000;
 }
 
 }  // namespace
@@ -79,7 +80,8 @@ struct LibcameraSource::Impl {
   void set_trigger_mode(bool on) {
     std::ofstream f(trigger_path);
     f << (on ? "1" : "0") << std::flush;
-    HULLPOSE_THROW_UNLESS(f.good(), who() << ": cannot write " << trigger_path << " (external trigger mode)");
+    HULLPOSE_THROW_UNLESS(f.good(),
+                          who() << ": cannot write " << trigger_path << " (external trigger mode)");
   }
 
   void release() {
@@ -114,7 +116,8 @@ struct LibcameraSource::Impl {
   }
 };
 
-LibcameraSource::LibcameraSource(const Params& params, const SourceContext& context) : impl_(std::make_unique<Impl>()) {
+LibcameraSource::LibcameraSource(const Params& params, const SourceContext& context)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.camera_wanted = params.get_string("camera", "");
   m.exposure_us = params.get_int("exposure_us", 4000, 1, 10000000);
@@ -125,17 +128,22 @@ LibcameraSource::LibcameraSource(const Params& params, const SourceContext& cont
   m.size = cv::Size(context.camera.width, context.camera.height);
   m.camera_id = context.camera_id;
   HULLPOSE_THROW_UNLESS(m.exposure_us <= m.frame_duration_us,
-                        params.scope() << ".exposure_us: " << m.exposure_us << " exceeds frame_duration_us "
-                                       << m.frame_duration_us);
+                        params.scope() << ".exposure_us: " << m.exposure_us
+                                       << " exceeds frame_duration_us " << m.frame_duration_us);
 }
 
-LibcameraSource::~LibcameraSource() { stop(); }
+LibcameraSource::~LibcameraSource() {
+  stop();
+}
 
 std::string LibcameraSource::describe() const {
   const Impl& m = *impl_;
-  return "libcamera " + (m.camera ? m.camera->id() : (m.camera_wanted.empty() ? "(first camera)" : m.camera_wanted)) +
-         " " + std::to_string(m.size.width) + "x" + std::to_string(m.size.height) + " RGB888, exposure " +
-         std::to_string(m.exposure_us) + " us" + (m.external_trigger ? ", external trigger" : "");
+  return "libcamera " +
+         (m.camera ? m.camera->id()
+                   : (m.camera_wanted.empty() ? "(first camera)" : m.camera_wanted)) +
+         " " + std::to_string(m.size.width) + "x" + std::to_string(m.size.height) +
+         " RGB888, exposure " + std::to_string(m.exposure_us) + " us" +
+         (m.external_trigger ? ", external trigger" : "");
 }
 
 void LibcameraSource::start() {
@@ -160,7 +168,8 @@ void LibcameraSource::start() {
   }
   if (!m.camera) {
     m.release();
-    HULLPOSE_THROW(m.who() << ": camera '" << (m.camera_wanted.empty() ? "(first)" : m.camera_wanted)
+    HULLPOSE_THROW(m.who() << ": camera '"
+                           << (m.camera_wanted.empty() ? "(first)" : m.camera_wanted)
                            << "' not found; the libcamera CameraManager listed "
                            << (listed.empty() ? "no cameras" : listed)
                            << " (is the sensor connected and its device tree overlay loaded?)");
@@ -180,13 +189,15 @@ void LibcameraSource::start() {
       const std::string path = m.trigger_path;
       m.trigger_path.clear();
       m.release();
-      HULLPOSE_THROW(m.who() << ": sensor " << sensor << " has no external-trigger mode (tried " << path << ")");
+      HULLPOSE_THROW(m.who() << ": sensor " << sensor << " has no external-trigger mode (tried "
+                             << path << ")");
     }
     m.set_trigger_mode(true);
   }
 
   m.config = m.camera->generateConfiguration({StreamRole::VideoRecording});
-  HULLPOSE_THROW_UNLESS(m.config && m.config->size() == 1, m.who() << ": no configuration for a video stream");
+  HULLPOSE_THROW_UNLESS(m.config && m.config->size() == 1,
+                        m.who() << ": no configuration for a video stream");
   StreamConfiguration& sc = m.config->at(0);
   sc.size = Size(static_cast<unsigned>(m.size.width), static_cast<unsigned>(m.size.height));
   sc.pixelFormat = formats::RGB888;  // DRM order: bytes B, G, R in memory = OpenCV BGR
@@ -211,7 +222,8 @@ void LibcameraSource::start() {
   }
   for (const std::unique_ptr<FrameBuffer>& fb : m.allocator->buffers(m.stream)) {
     size_t length = 0;
-    for (const FrameBuffer::Plane& p : fb->planes()) length = std::max<size_t>(length, p.offset + p.length);
+    for (const FrameBuffer::Plane& p : fb->planes())
+      length = std::max<size_t>(length, p.offset + p.length);
     void* data = mmap(nullptr, length, PROT_READ, MAP_SHARED, fb->planes()[0].fd.get(), 0);
     if (data == MAP_FAILED) {
       m.release();
@@ -226,7 +238,8 @@ void LibcameraSource::start() {
     m.requests.push_back(std::move(request));
   }
 
-  // Fixed exposure, gain and frame duration: the rig needs every camera to expose alike and on time.
+  // Fixed exposure, gain and frame duration: the rig needs every camera to expose alike and on
+  // time.
   ControlList controls(controls::controls);
   controls.set(controls::AeEnable, false);
   controls.set(controls::ExposureTime, m.exposure_us);
@@ -257,7 +270,8 @@ GrabStatus LibcameraSource::grab(Frame& frame, int timeout_ms) {
   Request* request = nullptr;
   {
     std::unique_lock lock(m.mutex);
-    if (!m.completed_cv.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] { return !m.completed.empty(); }))
+    if (!m.completed_cv.wait_for(lock, std::chrono::milliseconds(timeout_ms),
+                                 [&] { return !m.completed.empty(); }))
       return GrabStatus::kTimeout;
     request = m.completed.front();
     m.completed.pop_front();
@@ -266,7 +280,8 @@ GrabStatus LibcameraSource::grab(Frame& frame, int timeout_ms) {
   const Impl::Mapping* map = fb ? m.mapping_of(fb) : nullptr;
   HULLPOSE_THROW_UNLESS(map, m.who() << ": completed request without a known buffer");
   const StreamConfiguration& sc = m.config->at(0);
-  cv::Mat(m.size, CV_8UC3, static_cast<uint8_t*>(map->data) + fb->planes()[0].offset, sc.stride).copyTo(m.image);
+  cv::Mat(m.size, CV_8UC3, static_cast<uint8_t*>(map->data) + fb->planes()[0].offset, sc.stride)
+      .copyTo(m.image);
   const int64_t seq = fb->metadata().sequence;
   if (m.first_sequence < 0) m.first_sequence = seq;
   frame.image = m.image;
@@ -275,8 +290,9 @@ GrabStatus LibcameraSource::grab(Frame& frame, int timeout_ms) {
   const int64_t ns = ts ? *ts : static_cast<int64_t>(fb->metadata().timestamp);
   frame.capture_utime = ns / 1000 + boottime_to_epoch_us();
   request->reuse(Request::ReuseBuffers);
-  HULLPOSE_THROW_UNLESS(m.camera->queueRequest(request) == 0,
-                        m.who() << ": camera " << m.camera->id() << " stopped accepting requests (disconnected?)");
+  HULLPOSE_THROW_UNLESS(
+      m.camera->queueRequest(request) == 0,
+      m.who() << ": camera " << m.camera->id() << " stopped accepting requests (disconnected?)");
   return GrabStatus::kFrame;
 }
 

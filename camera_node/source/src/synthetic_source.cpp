@@ -29,7 +29,8 @@ struct SyntheticSource::Impl {
   cv::Mat image, truth;
 };
 
-SyntheticSource::SyntheticSource(const Params& params, const SourceContext& context) : impl_(std::make_unique<Impl>()) {
+SyntheticSource::SyntheticSource(const Params& params, const SourceContext& context)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.motion_spec = params.get_string("motion", "walk");
   if (m.motion_spec.size() > 4 && m.motion_spec.substr(m.motion_spec.size() - 4) == ".bvh") {
@@ -43,9 +44,11 @@ SyntheticSource::SyntheticSource(const Params& params, const SourceContext& cont
   m.start_utime = static_cast<int64_t>(params.get_double("start_utime", 0.0, 0.0, 9.2e18));
   m.motion_options.stature_mm = params.get_double("stature_mm", 1750.0, 800.0, 2500.0);
   m.scene_options.drift = params.get_double("drift", m.scene_options.drift, 0.0, 0.5);
-  m.scene_options.shadow_strength = params.get_double("shadow_strength", m.scene_options.shadow_strength, 0.0, 1.0);
+  m.scene_options.shadow_strength =
+      params.get_double("shadow_strength", m.scene_options.shadow_strength, 0.0, 1.0);
   m.scene_options.flicker = params.get_double("flicker", m.scene_options.flicker, 0.0, 0.5);
-  m.scene_options.noise_sigma = params.get_double("noise_sigma", m.scene_options.noise_sigma, 0.0, 50.0);
+  m.scene_options.noise_sigma =
+      params.get_double("noise_sigma", m.scene_options.noise_sigma, 0.0, 50.0);
   m.camera = context.camera;
   const Eigen::Vector3d centre = 0.5 * (context.volume.min_mm + context.volume.max_mm);
   m.motion_options.centre_mm = Eigen::Vector3d(centre.x(), centre.y(), context.volume.min_mm.z());
@@ -54,20 +57,21 @@ SyntheticSource::SyntheticSource(const Params& params, const SourceContext& cont
 SyntheticSource::~SyntheticSource() = default;
 
 std::string SyntheticSource::describe() const {
-  return "synthetic camera " + std::to_string(impl_->camera.id) + " (" + impl_->motion_spec + ", seed " +
-         std::to_string(impl_->seed) + ", " + std::to_string(impl_->camera.width) + "x" +
-         std::to_string(impl_->camera.height) + ")";
+  return "synthetic camera " + std::to_string(impl_->camera.id) + " (" + impl_->motion_spec +
+         ", seed " + std::to_string(impl_->seed) + ", " + std::to_string(impl_->camera.width) +
+         "x" + std::to_string(impl_->camera.height) + ")";
 }
 
 void SyntheticSource::start() {
   Impl& m = *impl_;
-  m.motion = synth::make_motion(m.motion_spec, m.motion_options);  // throws naming a bad motion or file
+  m.motion =
+      synth::make_motion(m.motion_spec, m.motion_options);  // throws naming a bad motion or file
   const bool endless = !std::isfinite(m.motion->duration_s());
   const int clip = endless ? 0 : m.motion->frame_count(m.fps);
-  HULLPOSE_THROW_UNLESS(endless || m.frames <= clip, "camera " << m.camera.id << ": synthetic source: motion "
-                                                               << m.motion->name() << " has " << clip
-                                                               << " frames at " << m.fps << " fps, " << m.frames
-                                                               << " asked for");
+  HULLPOSE_THROW_UNLESS(endless || m.frames <= clip,
+                        "camera " << m.camera.id << ": synthetic source: motion "
+                                  << m.motion->name() << " has " << clip << " frames at " << m.fps
+                                  << " fps, " << m.frames << " asked for");
   const int motion_frames = m.frames > 0 ? m.frames : clip;  // 0 with an endless motion: no limit
   m.limit = motion_frames > 0 ? m.empty_frames + motion_frames : -1;
   m.scene = std::make_unique<synth::Scene>(m.scene_options, m.seed);
@@ -93,9 +97,10 @@ GrabStatus SyntheticSource::grab(Frame& frame, int /*timeout_ms*/) {
   }
   frame.image = m.image;
   frame.sequence = m.next;
-  frame.capture_utime = m.exposed_utime >= 0
-                            ? m.exposed_utime
-                            : m.t0 + static_cast<int64_t>(std::llround(static_cast<double>(m.next) * 1e6 / m.fps));
+  frame.capture_utime =
+      m.exposed_utime >= 0
+          ? m.exposed_utime
+          : m.t0 + static_cast<int64_t>(std::llround(static_cast<double>(m.next) * 1e6 / m.fps));
   m.exposed_utime = -1;
   ++m.next;
   return GrabStatus::kFrame;
@@ -103,13 +108,16 @@ GrabStatus SyntheticSource::grab(Frame& frame, int /*timeout_ms*/) {
 
 void SyntheticSource::expose(int64_t trigger_seq, int64_t capture_utime) {
   Impl& m = *impl_;
-  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << m.camera.id << ": synthetic source: trigger sequence "
+  HULLPOSE_THROW_UNLESS(trigger_seq >= 0, "camera " << m.camera.id
+                                                    << ": synthetic source: trigger sequence "
                                                     << trigger_seq << " is negative");
   m.next = m.empty_frames + std::min<int64_t>(trigger_seq, 1 << 30);
   m.exposed_utime = capture_utime;
 }
 
-const cv::Mat& SyntheticSource::truth() const { return impl_->truth; }
+const cv::Mat& SyntheticSource::truth() const {
+  return impl_->truth;
+}
 
 void SyntheticSource::stop() {
   impl_->renderer.reset();

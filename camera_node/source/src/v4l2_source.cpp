@@ -33,12 +33,13 @@ uint32_t parse_fourcc(const std::string& s, const std::string& field) {
   if (s == "BGR3") return V4L2_PIX_FMT_BGR24;
   if (s == "RGB3") return V4L2_PIX_FMT_RGB24;
   if (s == "GREY") return V4L2_PIX_FMT_GREY;
-  HULLPOSE_THROW(field << ": unsupported pixel format '" << s << "' (supported: YUYV, BGR3, RGB3, GREY)");
+  HULLPOSE_THROW(field << ": unsupported pixel format '" << s
+                       << "' (supported: YUYV, BGR3, RGB3, GREY)");
 }
 
 std::string fourcc_text(uint32_t f) {
-  return {static_cast<char>(f & 0xff), static_cast<char>((f >> 8) & 0xff), static_cast<char>((f >> 16) & 0xff),
-          static_cast<char>((f >> 24) & 0xff)};
+  return {static_cast<char>(f & 0xff), static_cast<char>((f >> 8) & 0xff),
+          static_cast<char>((f >> 16) & 0xff), static_cast<char>((f >> 24) & 0xff)};
 }
 
 // Offset from CLOCK_MONOTONIC to the epoch, for driver timestamps.
@@ -46,7 +47,8 @@ int64_t monotonic_to_epoch_us() {
   timespec mono{}, real{};
   clock_gettime(CLOCK_MONOTONIC, &mono);
   clock_gettime(CLOCK_REALTIME, &real);
-  return (static_cast<int64_t>(real.tv_sec) - mono.tv_sec) * 1000000 + (real.tv_nsec - mono.tv_nsec) / 1000;
+  return (static_cast<int64_t>(real.tv_sec) - mono.tv_sec) * 1000000 +
+         (real.tv_nsec - mono.tv_nsec) / 1000;
 }
 
 }  // namespace
@@ -54,15 +56,18 @@ int64_t monotonic_to_epoch_us() {
 V4l2Source::V4l2Source(const Params& params, const SourceContext& context)
     : size_(context.camera.width, context.camera.height), camera_id_(context.camera_id) {
   device_ = params.get_string("device", "/dev/video0");
-  fourcc_ = parse_fourcc(params.get_string("pixel_format", "YUYV"), params.scope() + ".pixel_format");
+  fourcc_ =
+      parse_fourcc(params.get_string("pixel_format", "YUYV"), params.scope() + ".pixel_format");
   buffer_count_ = params.get_int("buffers", 4, 2, 32);
 }
 
-V4l2Source::~V4l2Source() { stop(); }
+V4l2Source::~V4l2Source() {
+  stop();
+}
 
 std::string V4l2Source::describe() const {
-  return "v4l2 " + device_ + " " + std::to_string(size_.width) + "x" + std::to_string(size_.height) + " " +
-         fourcc_text(fourcc_);
+  return "v4l2 " + device_ + " " + std::to_string(size_.width) + "x" +
+         std::to_string(size_.height) + " " + fourcc_text(fourcc_);
 }
 
 void V4l2Source::start() {
@@ -70,9 +75,11 @@ void V4l2Source::start() {
   fd_ = ::open(device_.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (fd_ < 0) {
     const int err = errno;
-    HULLPOSE_THROW(who << ": cannot open (" << std::strerror(err) << "); tried open(2) read-write"
-                       << (err == ENOENT ? "; no such device node — is the camera connected and its driver loaded?"
-                                         : ""));
+    HULLPOSE_THROW(
+        who << ": cannot open (" << std::strerror(err) << "); tried open(2) read-write"
+            << (err == ENOENT
+                    ? "; no such device node — is the camera connected and its driver loaded?"
+                    : ""));
   }
   v4l2_capability cap{};
   if (xioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0) {
@@ -80,7 +87,8 @@ void V4l2Source::start() {
     stop();
     HULLPOSE_THROW(who << ": not a V4L2 device (VIDIOC_QUERYCAP: " << std::strerror(err) << ")");
   }
-  const uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+  const uint32_t caps =
+      (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
     stop();
     HULLPOSE_THROW(who << " (" << reinterpret_cast<const char*>(cap.card)
@@ -96,9 +104,9 @@ void V4l2Source::start() {
       fmt.fmt.pix.width != static_cast<uint32_t>(size_.width) ||
       fmt.fmt.pix.height != static_cast<uint32_t>(size_.height)) {
     stop();
-    HULLPOSE_THROW(who << ": does not accept " << size_.width << "x" << size_.height << " " << fourcc_text(fourcc_)
-                       << " (driver offered " << fmt.fmt.pix.width << "x" << fmt.fmt.pix.height << " "
-                       << fourcc_text(fmt.fmt.pix.pixelformat) << ")");
+    HULLPOSE_THROW(who << ": does not accept " << size_.width << "x" << size_.height << " "
+                       << fourcc_text(fourcc_) << " (driver offered " << fmt.fmt.pix.width << "x"
+                       << fmt.fmt.pix.height << " " << fourcc_text(fmt.fmt.pix.pixelformat) << ")");
   }
   stride_ = fmt.fmt.pix.bytesperline;
   v4l2_requestbuffers req{};
@@ -149,15 +157,16 @@ GrabStatus V4l2Source::grab(Frame& frame, int timeout_ms) {
   if (r == 0) return GrabStatus::kTimeout;
   if (r < 0 && errno == EINTR) return GrabStatus::kTimeout;
   HULLPOSE_THROW_UNLESS(r > 0 && !(pfd.revents & (POLLERR | POLLHUP | POLLNVAL)),
-                        "camera " << camera_id_ << ": v4l2 device " << device_ << " stopped delivering frames"
+                        "camera " << camera_id_ << ": v4l2 device " << device_
+                                  << " stopped delivering frames"
                                   << " (poll error; device unplugged?)");
   v4l2_buffer buf{};
   buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   buf.memory = V4L2_MEMORY_MMAP;
   if (xioctl(fd_, VIDIOC_DQBUF, &buf) < 0) {
     if (errno == EAGAIN) return GrabStatus::kTimeout;
-    HULLPOSE_THROW("camera " << camera_id_ << ": v4l2 device " << device_ << ": VIDIOC_DQBUF failed ("
-                             << std::strerror(errno) << ")");
+    HULLPOSE_THROW("camera " << camera_id_ << ": v4l2 device " << device_
+                             << ": VIDIOC_DQBUF failed (" << std::strerror(errno) << ")");
   }
   uint8_t* data = static_cast<uint8_t*>(buffers_[buf.index].data);
   const int w = size_.width, h = size_.height;
@@ -178,12 +187,13 @@ GrabStatus V4l2Source::grab(Frame& frame, int timeout_ms) {
   if (first_sequence_ < 0) first_sequence_ = buf.sequence;
   frame.image = image_;
   frame.sequence = static_cast<int64_t>(buf.sequence) - first_sequence_;
-  frame.capture_utime = static_cast<int64_t>(buf.timestamp.tv_sec) * 1000000 + buf.timestamp.tv_usec;
+  frame.capture_utime =
+      static_cast<int64_t>(buf.timestamp.tv_sec) * 1000000 + buf.timestamp.tv_usec;
   if ((buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC)
     frame.capture_utime += monotonic_to_epoch_us();
-  HULLPOSE_THROW_UNLESS(xioctl(fd_, VIDIOC_QBUF, &buf) == 0, "camera " << camera_id_ << ": v4l2 device " << device_
-                                                                      << ": VIDIOC_QBUF failed ("
-                                                                      << std::strerror(errno) << ")");
+  HULLPOSE_THROW_UNLESS(xioctl(fd_, VIDIOC_QBUF, &buf) == 0,
+                        "camera " << camera_id_ << ": v4l2 device " << device_
+                                  << ": VIDIOC_QBUF failed (" << std::strerror(errno) << ")");
   return GrabStatus::kFrame;
 }
 

@@ -27,7 +27,8 @@ void FrameMatcher::poll(int64_t now_us, std::vector<TaggedFrame>& out) {
   for (; done < edges_.size(); ++done) {
     const MappedEdge& e = edges_[done];
     const bool frame_after = !frames_.empty() && frames_.back().us >= e.edge_us;
-    if (!frame_after && now_us - e.edge_us <= config_.max_residual_us) break;  // a nearer frame may come
+    if (!frame_after && now_us - e.edge_us <= config_.max_residual_us)
+      break;  // a nearer frame may come
     Frame* best = nullptr;
     for (Frame& f : frames_) {
       if (!f.used && std::llabs(f.us - e.edge_us) <= config_.max_residual_us &&

@@ -35,7 +35,8 @@ void SequenceMapper::on_announcement(const Announcement& a) {
       return;
     }
     if (epoch_ != 0) {
-      HULLPOSE_LOG(Mapper, Info) << "trigger epoch " << epoch_ << " -> " << a.epoch << ": resynchronising";
+      HULLPOSE_LOG(Mapper, Info) << "trigger epoch " << epoch_ << " -> " << a.epoch
+                                 << ": resynchronising";
       counters_.add("epoch_change");
     }
     retired_epoch_ = epoch_;
@@ -120,7 +121,8 @@ bool SequenceMapper::map_time(int64_t m, MappedEdge& e) const {
   if (!lo || !hi) return false;
   const int64_t period = lo->period_us;
   const int64_t steps = hi->seq - lo->seq;
-  if (hi->period_us != period || std::llabs(hi->utime - lo->utime - steps * period) > period / 4) return false;
+  if (hi->period_us != period || std::llabs(hi->utime - lo->utime - steps * period) > period / 4)
+    return false;
   const int64_t n = round_div(m - lo->utime, period);
   if (n <= 0 || n >= steps || std::llabs(m - lo->utime - n * period) > period / 4) return false;
   e.seq = lo->seq + n;

@@ -19,7 +19,8 @@ void TriggerListener::poll(int64_t now_us, std::vector<TaggedFrame>& out) {
   int64_t edge = 0;
   while (edges_.read(edge)) {
     mapper_.on_edge(edge);
-    if (config_.expose_after_edge_us >= 0) matcher_.on_frame(exposed_++, edge + config_.expose_after_edge_us);
+    if (config_.expose_after_edge_us >= 0)
+      matcher_.on_frame(exposed_++, edge + config_.expose_after_edge_us);
   }
   mapped_.clear();
   mapper_.poll(now_us, mapped_);

@@ -15,11 +15,14 @@ void TriggerMasterConfig::validate() const {
   HULLPOSE_THROW_UNLESS(std::isfinite(rate_hz) && rate_hz >= 0.1 && rate_hz <= 1000,
                         "trigger master: rate " << rate_hz << " Hz outside 0.1..1000");
   HULLPOSE_THROW_UNLESS(pulse_width_us > 0 && pulse_width_us < period_from_rate(rate_hz),
-                        "trigger master: pulse width " << pulse_width_us << " us must be positive and shorter than the period "
-                                                       << period_from_rate(rate_hz) << " us");
+                        "trigger master: pulse width "
+                            << pulse_width_us << " us must be positive and shorter than the period "
+                            << period_from_rate(rate_hz) << " us");
 }
 
-int64_t period_from_rate(double rate_hz) { return std::llround(1e6 / rate_hz); }
+int64_t period_from_rate(double rate_hz) {
+  return std::llround(1e6 / rate_hz);
+}
 
 int64_t new_epoch() {
   std::random_device rd;
@@ -44,9 +47,13 @@ int64_t JitterStats::p99_us() {
   return scratch_[k];
 }
 
-TriggerMaster::TriggerMaster(const TriggerMasterConfig& config, TriggerLine& line, Clock& clock, Announce announce,
-                             int64_t epoch)
-    : config_(config), line_(line), clock_(clock), announce_(std::move(announce)), epoch_(epoch),
+TriggerMaster::TriggerMaster(const TriggerMasterConfig& config, TriggerLine& line, Clock& clock,
+                             Announce announce, int64_t epoch)
+    : config_(config),
+      line_(line),
+      clock_(clock),
+      announce_(std::move(announce)),
+      epoch_(epoch),
       period_us_(period_from_rate(config.rate_hz)) {
   config_.validate();
   msg_.rig_id = config_.rig_id;
@@ -64,7 +71,8 @@ int64_t TriggerMaster::pulse() {
     const int64_t skipped = (now - next_edge_us_) / period + 1;
     missed_slots_ += skipped;
     next_edge_us_ += skipped * period;
-    HULLPOSE_LOG(Master, Warn) << "overrun: skipped " << skipped << " trigger slot(s) before seq " << seq_;
+    HULLPOSE_LOG(Master, Warn) << "overrun: skipped " << skipped << " trigger slot(s) before seq "
+                               << seq_;
   }
   clock_.sleep_until_monotonic_us(next_edge_us_);
   const int64_t stamped = line_.set(true);
@@ -106,7 +114,9 @@ void TriggerMaster::start() {
   wake_.notify_all();
 }
 
-void TriggerMaster::stop() { running_ = false; }
+void TriggerMaster::stop() {
+  running_ = false;
+}
 
 void TriggerMaster::set_rate(double rate_hz) {
   TriggerMasterConfig c = config_;

@@ -10,9 +10,12 @@ HULLPOSE_LOG_CATEGORY(Fusion, "fusion")
 
 const char* to_string(FusionFailure failure) {
   switch (failure) {
-    case FusionFailure::kNone: return "none";
-    case FusionFailure::kTooFewViews: return "too_few_views";
-    case FusionFailure::kEmptyHull: return "empty_hull";
+    case FusionFailure::kNone:
+      return "none";
+    case FusionFailure::kTooFewViews:
+      return "too_few_views";
+    case FusionFailure::kEmptyHull:
+      return "empty_hull";
   }
   return "?";
 }
@@ -24,7 +27,8 @@ FusionCore::FusionCore(const Rig& rig, const FusionOptions& options, Counters* c
       backend_(gpu::resolve_backend(options.backend)),
       cleanup_(options.cleanup),
       ck3_({options.curve_rule, thin::ZeroCliqueTest::kSpan3, options.threads, 0}) {
-  if (backend_ == gpu::Backend::kCuda) cuda_ = std::make_unique<gpu::CudaFusion>(carver_, ck3_.options());
+  if (backend_ == gpu::Backend::kCuda)
+    cuda_ = std::make_unique<gpu::CudaFusion>(carver_, ck3_.options());
   result_.grid = carver_.grid();
   result_.hull.reset(result_.grid.dims);
   result_.skeleton.reset(result_.grid.dims);
@@ -41,7 +45,8 @@ bool FusionCore::on_gpu(Step&& step) {
   } catch (const std::exception& e) {
     // A CUDA error mid-run (device lost, out of memory, a driver fault) must not end the live
     // service: this frame and every later one run on the CPU path, which gives the same voxels.
-    HULLPOSE_LOG(Fusion, Error) << "CUDA backend failed (" << e.what() << "); continuing on the CPU";
+    HULLPOSE_LOG(Fusion, Error) << "CUDA backend failed (" << e.what()
+                                << "); continuing on the CPU";
     if (counters_) counters_->add("fusion.cuda_error");
     cuda_.reset();
     backend_ = gpu::Backend::kCpu;
@@ -49,7 +54,8 @@ bool FusionCore::on_gpu(Step&& step) {
   }
 }
 
-const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes) {
+const FusionResult& FusionCore::process(std::span<const cv::Mat> views,
+                                        std::span<const PixelRoi> fg_boxes) {
   FusionResult& r = result_;
   r.timings = {};
   r.thin = {};
@@ -64,8 +70,10 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
     carver_.carve(views, r.hull, r.carve, fg_boxes);
   r.timings.carve_ms = static_cast<double>(t.elapsed_us()) * 1e-3;
   if (counters_) {
-    if (!r.carve.missing_cameras.empty()) counters_->add("fusion.camera_missing", static_cast<int64_t>(r.carve.missing_cameras.size()));
-    if (!r.carve.rejected_cameras.empty()) counters_->add("fusion.mask_rejected", static_cast<int64_t>(r.carve.rejected_cameras.size()));
+    if (!r.carve.missing_cameras.empty())
+      counters_->add("fusion.camera_missing", static_cast<int64_t>(r.carve.missing_cameras.size()));
+    if (!r.carve.rejected_cameras.empty())
+      counters_->add("fusion.mask_rejected", static_cast<int64_t>(r.carve.rejected_cameras.size()));
   }
   if (!r.carve.valid) {
     r.failure = FusionFailure::kTooFewViews;
@@ -73,8 +81,11 @@ const FusionResult& FusionCore::process(std::span<const cv::Mat> views, std::spa
     r.failure = FusionFailure::kEmptyHull;
   }
   if (r.failure != FusionFailure::kNone) {
-    if (counters_) counters_->add(r.failure == FusionFailure::kTooFewViews ? "fusion.too_few_views" : "fusion.empty_hull");
-    HULLPOSE_LOG(Fusion, Debug) << "frame dropped: " << to_string(r.failure) << " (" << r.carve.cameras_used << " cameras)";
+    if (counters_)
+      counters_->add(r.failure == FusionFailure::kTooFewViews ? "fusion.too_few_views"
+                                                              : "fusion.empty_hull");
+    HULLPOSE_LOG(Fusion, Debug) << "frame dropped: " << to_string(r.failure) << " ("
+                                << r.carve.cameras_used << " cameras)";
     r.skeleton.clear();
     r.timings.total_ms = static_cast<double>(total.elapsed_us()) * 1e-3;
     return r;

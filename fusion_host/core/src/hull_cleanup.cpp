@@ -23,7 +23,8 @@ void HullCleanup::apply(BitGrid& hull, HullStats& stats) {
     stats.components_kept = stats.components;
   }
   stats.voxels_dropped = stats.carved_voxels - hull.count();
-  if (options_.max_cavity_voxels > 0) stats.cavities_filled = labeller_.fill_cavities(hull, options_.max_cavity_voxels);
+  if (options_.max_cavity_voxels > 0)
+    stats.cavities_filled = labeller_.fill_cavities(hull, options_.max_cavity_voxels);
   stats.voxels = hull.count();
   // Bounding box from the occupied rows (words), not voxel by voxel.
   const Eigen::Vector3i d = hull.dims();

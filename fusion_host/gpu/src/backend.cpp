@@ -16,9 +16,12 @@ Backend parse_backend(std::string_view text) {
 
 std::string_view to_string(Backend backend) {
   switch (backend) {
-    case Backend::kAuto: return "auto";
-    case Backend::kCpu: return "cpu";
-    case Backend::kCuda: return "cuda";
+    case Backend::kAuto:
+      return "auto";
+    case Backend::kCpu:
+      return "cpu";
+    case Backend::kCuda:
+      return "cuda";
   }
   return "?";
 }
@@ -28,8 +31,8 @@ Backend resolve_backend(Backend requested, DeviceInfo* device_out) {
   const DeviceInfo device = probe_device();
   if (device_out) *device_out = device;
   if (device.available) {
-    HULLPOSE_LOG(Gpu, Info) << "CUDA device: " << device.name << " (compute " << device.compute_major
-                            << "." << device.compute_minor << ", "
+    HULLPOSE_LOG(Gpu, Info) << "CUDA device: " << device.name << " (compute "
+                            << device.compute_major << "." << device.compute_minor << ", "
                             << device.memory_bytes / (1024 * 1024) << " MiB)";
     return Backend::kCuda;
   }

@@ -17,9 +17,12 @@ namespace hullpose::gpu {
 namespace {
 
 void check(cudaError_t e, const char* what) {
-  HULLPOSE_THROW_UNLESS(e == cudaSuccess, "CUDA backend: " << what << ": " << cudaGetErrorString(e));
+  HULLPOSE_THROW_UNLESS(e == cudaSuccess,
+                        "CUDA backend: " << what << ": " << cudaGetErrorString(e));
 }
-void check_launch(int e, const char* what) { check(static_cast<cudaError_t>(e), what); }
+void check_launch(int e, const char* what) {
+  check(static_cast<cudaError_t>(e), what);
+}
 
 // One device allocation, freed with its owner.
 class DeviceBuffer {
@@ -79,19 +82,22 @@ struct CudaFusion::Impl {
   Eigen::Vector3i dims;
   int words_per_row = 0;
   // Carving.
-  std::vector<DeviceBuffer> masks;  // per camera: width x height bytes, only foreground boxes written
+  std::vector<DeviceBuffer>
+      masks;  // per camera: width x height bytes, only foreground boxes written
   DeviceBuffer cams_dev, mask_views_dev, centres, hull_dev;
   std::vector<int> present;
   std::vector<carve::CameraParams> cams_host;
   std::vector<carve::MaskView> mask_views_host;
   // CK3.
   detail::DeviceVolume vol;
-  DeviceBuffer rows, flags, border[2], codes, deleted, k_list, counters, tables, simple_lut, tbar_lut;
+  DeviceBuffer rows, flags, border[2], codes, deleted, k_list, counters, tables, simple_lut,
+      tbar_lut;
   std::vector<uint64_t> staging;  // padded rows on the host
   GpuStageTimes carve_times, thin_times;
   Event e0, e1, e2, e3;
 
-  Impl(const carve::Carver& c, const thin::ThinOptions& o) : carver(c), thin_options(o), dims(c.grid().dims) {}
+  Impl(const carve::Carver& c, const thin::ThinOptions& o)
+      : carver(c), thin_options(o), dims(c.grid().dims) {}
 };
 
 CudaFusion::CudaFusion(const carve::Carver& carver, const thin::ThinOptions& thin_options) {
@@ -107,7 +113,8 @@ CudaFusion::CudaFusion(const carve::Carver& carver, const thin::ThinOptions& thi
   m.masks.resize(ncam);
   for (size_t c = 0; c < ncam; ++c) {
     const auto& p = carver.projectors()[c].params();
-    m.masks[c].allocate(static_cast<size_t>(p.width) * static_cast<size_t>(p.height), "mask buffer");
+    m.masks[c].allocate(static_cast<size_t>(p.width) * static_cast<size_t>(p.height),
+                        "mask buffer");
   }
   m.cams_dev.allocate(ncam * sizeof(carve::CameraParams), "camera table");
   m.mask_views_dev.allocate(ncam * sizeof(carve::MaskView), "mask table");
@@ -121,7 +128,8 @@ CudaFusion::CudaFusion(const carve::Carver& carver, const thin::ThinOptions& thi
   m.centres.allocate(centres.size() * sizeof(double), "voxel centres");
   upload(m.centres.as<void>(), centres.data(), m.centres.bytes(), "voxel centres");
   m.words_per_row = (d.x() + 63) / 64;
-  m.hull_dev.allocate(static_cast<size_t>(m.words_per_row) * d.y() * d.z() * sizeof(uint64_t), "hull");
+  m.hull_dev.allocate(static_cast<size_t>(m.words_per_row) * d.y() * d.z() * sizeof(uint64_t),
+                      "hull");
   check(cudaMemset(m.hull_dev.as<void>(), 0, m.hull_dev.bytes()), "hull clear");
 
   // CK3: the padded volume of the whole grid, lists sized for every voxel, the LUTs.
@@ -133,7 +141,8 @@ CudaFusion::CudaFusion(const carve::Carver& carver, const thin::ThinOptions& thi
   v.mask = (1u << v.shift) - 1;
   v.words = static_cast<uint32_t>((v.px + 63) / 64 + 1);
   const uint64_t padded = (static_cast<uint64_t>(v.py) * static_cast<uint64_t>(v.pz)) << v.shift;
-  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31), "CUDA backend: grid " << d.transpose() << " too large");
+  HULLPOSE_THROW_UNLESS(padded < (uint64_t{1} << 31),
+                        "CUDA backend: grid " << d.transpose() << " too large");
   auto offset = [&](int dx, int dy, int dz) { return dx + (dy + v.py * dz) * (1 << v.shift); };
   for (int b = 0; b < 27; ++b) v.off27[b] = offset(b % 3 - 1, b / 3 % 3 - 1, b / 9 - 1);
   for (int dir = 0; dir < 6; ++dir) {
@@ -163,18 +172,23 @@ CudaFusion::CudaFusion(const carve::Carver& carver, const thin::ThinOptions& thi
 
 CudaFusion::~CudaFusion() = default;
 
-const GpuStageTimes& CudaFusion::carve_times() const { return impl_->carve_times; }
-const GpuStageTimes& CudaFusion::thin_times() const { return impl_->thin_times; }
+const GpuStageTimes& CudaFusion::carve_times() const {
+  return impl_->carve_times;
+}
+const GpuStageTimes& CudaFusion::thin_times() const {
+  return impl_->thin_times;
+}
 
-void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, carve::CarveReport& report,
-                       std::span<const PixelRoi> fg_boxes) {
+void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull,
+                       carve::CarveReport& report, std::span<const PixelRoi> fg_boxes) {
   Impl& m = *impl_;
   m.carver.check_views(views, report, m.present);
   hull.reset(m.dims);
   report.voxels = 0;
   if (!report.valid) return;
-  HULLPOSE_THROW_UNLESS(fg_boxes.empty() || fg_boxes.size() == views.size(),
-                        "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
+  HULLPOSE_THROW_UNLESS(
+      fg_boxes.empty() || fg_boxes.size() == views.size(),
+      "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
   m.e0.record();
   m.cams_host.clear();
   m.mask_views_host.clear();
@@ -184,16 +198,18 @@ void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, ca
     auto* dev = m.masks[static_cast<size_t>(c)].as<uint8_t>();
     const size_t pitch = static_cast<size_t>(mask.cols);
     if (box.area() > 0)
-      check(cudaMemcpy2D(dev + static_cast<size_t>(box.y) * pitch + static_cast<size_t>(box.x), pitch,
-                         mask.ptr<uint8_t>(box.y) + box.x, mask.step[0], static_cast<size_t>(box.width),
-                         static_cast<size_t>(box.height), cudaMemcpyHostToDevice),
+      check(cudaMemcpy2D(dev + static_cast<size_t>(box.y) * pitch + static_cast<size_t>(box.x),
+                         pitch, mask.ptr<uint8_t>(box.y) + box.x, mask.step[0],
+                         static_cast<size_t>(box.width), static_cast<size_t>(box.height),
+                         cudaMemcpyHostToDevice),
             "mask upload");
     m.cams_host.push_back(m.carver.projectors()[static_cast<size_t>(c)].params());
     m.mask_views_host.push_back({dev, pitch, box.x, box.y, box.x + box.width, box.y + box.height});
   }
-  upload(m.cams_dev.as<void>(), m.cams_host.data(), m.cams_host.size() * sizeof(carve::CameraParams), "camera table");
-  upload(m.mask_views_dev.as<void>(), m.mask_views_host.data(), m.mask_views_host.size() * sizeof(carve::MaskView),
-         "mask table");
+  upload(m.cams_dev.as<void>(), m.cams_host.data(),
+         m.cams_host.size() * sizeof(carve::CameraParams), "camera table");
+  upload(m.mask_views_dev.as<void>(), m.mask_views_host.data(),
+         m.mask_views_host.size() * sizeof(carve::MaskView), "mask table");
   m.e1.record();
   detail::CarveArgs a;
   a.cams = m.cams_dev.as<carve::CameraParams>();
@@ -210,7 +226,8 @@ void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, ca
   a.words_per_row = m.words_per_row;
   check_launch(detail::launch_carve(a), "carve kernel");
   m.e2.record();
-  download(hull.words().data(), m.hull_dev.as<void>(), hull.words().size() * sizeof(uint64_t), "hull download");
+  download(hull.words().data(), m.hull_dev.as<void>(), hull.words().size() * sizeof(uint64_t),
+           "hull download");
   m.e3.record();
   m.e3.wait();
   m.carve_times = {m.e1.ms_since(m.e0), m.e2.ms_since(m.e1), m.e3.ms_since(m.e2)};
@@ -219,9 +236,10 @@ void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, ca
 
 thin::ThinStats CudaFusion::thin(fusion::BitGrid& volume) {
   Impl& m = *impl_;
-  HULLPOSE_THROW_UNLESS(volume.dims() == m.dims, "CUDA thinning: volume dims " << volume.dims().transpose()
-                                                                                << " differ from the grid's "
-                                                                                << m.dims.transpose());
+  HULLPOSE_THROW_UNLESS(volume.dims() == m.dims, "CUDA thinning: volume dims "
+                                                     << volume.dims().transpose()
+                                                     << " differ from the grid's "
+                                                     << m.dims.transpose());
   detail::DeviceVolume& v = m.vol;
   thin::ThinStats stats;
   stats.initial_voxels = volume.count();
@@ -231,7 +249,9 @@ thin::ThinStats CudaFusion::thin(fusion::BitGrid& volume) {
   for (int z = 0; z < m.dims.z(); ++z)
     for (int y = 0; y < m.dims.y(); ++y) {
       const uint64_t* src = volume.row(y, z);
-      uint64_t* dst = m.staging.data() + (static_cast<size_t>(z + 2) * static_cast<size_t>(v.py) + static_cast<size_t>(y) + 2) * v.words;
+      uint64_t* dst = m.staging.data() + (static_cast<size_t>(z + 2) * static_cast<size_t>(v.py) +
+                                          static_cast<size_t>(y) + 2) *
+                                             v.words;
       for (int w = 0; w < gw; ++w) {
         dst[w] |= src[w] << 2;
         dst[w + 1] |= src[w] >> 62;
@@ -256,7 +276,9 @@ thin::ThinStats CudaFusion::thin(fusion::BitGrid& volume) {
     // Reset next, deleted and constrained; k_total runs on.
     check(cudaMemset(counters, 0, 3 * sizeof(uint32_t)), "counters reset");
     check_launch(detail::launch_ck3_classify(v, tables, rule, border, n, codes), "classify kernel");
-    auto pass = [&](detail::Ck3Pass p) { check_launch(detail::launch_ck3_pass(p, v, tables, border, n, codes), "pass kernel"); };
+    auto pass = [&](detail::Ck3Pass p) {
+      check_launch(detail::launch_ck3_pass(p, v, tables, border, n, codes), "pass kernel");
+    };
     if (rule == thin::CurveRule::kCk3) {
       pass(detail::Ck3Pass::kCk3Surface);
       pass(detail::Ck3Pass::kCk3Candidate);
@@ -270,7 +292,8 @@ thin::ThinStats CudaFusion::thin(fusion::BitGrid& volume) {
     check_launch(detail::launch_ck3_level0(v, tables, m.thin_options.zero_clique, border, n, codes,
                                            m.deleted.as<uint32_t>(), counters),
                  "level-0 kernel");
-    check_launch(detail::launch_ck3_settle(v, border, n, m.deleted.as<uint32_t>(), n, m.border[1 - cur].as<uint32_t>(),
+    check_launch(detail::launch_ck3_settle(v, border, n, m.deleted.as<uint32_t>(), n,
+                                           m.border[1 - cur].as<uint32_t>(),
                                            m.k_list.as<uint32_t>(), counters),
                  "settle kernels");
     download(&host, counters, sizeof host, "counters");
@@ -293,7 +316,10 @@ thin::ThinStats CudaFusion::thin(fusion::BitGrid& volume) {
   for (int z = 0; z < m.dims.z(); ++z)
     for (int y = 0; y < m.dims.y(); ++y) {
       uint64_t* dst = volume.row(y, z);
-      const uint64_t* src = m.staging.data() + (static_cast<size_t>(z + 2) * static_cast<size_t>(v.py) + static_cast<size_t>(y) + 2) * v.words;
+      const uint64_t* src =
+          m.staging.data() +
+          (static_cast<size_t>(z + 2) * static_cast<size_t>(v.py) + static_cast<size_t>(y) + 2) *
+              v.words;
       for (int w = 0; w < gw; ++w) dst[w] = src[w] >> 2 | src[w + 1] << 62;
       dst[gw - 1] &= last_mask;
     }

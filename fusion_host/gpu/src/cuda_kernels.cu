@@ -11,7 +11,9 @@ namespace {
 
 constexpr int kThreads = 256;
 
-unsigned blocks_for(uint32_t n) { return (n + kThreads - 1) / kThreads; }
+unsigned blocks_for(uint32_t n) {
+  return (n + kThreads - 1) / kThreads;
+}
 
 // ---- carving ------------------------------------------------------------------------------
 
@@ -23,10 +25,12 @@ __global__ void carve_kernel(CarveArgs a) {
   const int z = static_cast<int>(blockIdx.z);
   bool kept = false;
   if (x < a.nx && y < a.ny)
-    kept = carve::voxel_kept(a.cams, a.masks, a.ncams, a.tolerance, a.centre_x[x], a.centre_y[y], a.centre_z[z]);
+    kept = carve::voxel_kept(a.cams, a.masks, a.ncams, a.tolerance, a.centre_x[x], a.centre_y[y],
+                             a.centre_z[z]);
   const unsigned ballot = __ballot_sync(0xffffffffu, kept);
   if (threadIdx.x == 0 && y < a.ny)
-    a.hull[(static_cast<size_t>(z) * a.ny + y) * (2 * static_cast<size_t>(a.words_per_row)) + blockIdx.x] = ballot;
+    a.hull[(static_cast<size_t>(z) * a.ny + y) * (2 * static_cast<size_t>(a.words_per_row)) +
+           blockIdx.x] = ballot;
 }
 
 // ---- CK3 ----------------------------------------------------------------------------------
@@ -48,7 +52,8 @@ struct View {
     uint32_t c = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
-        const uint64_t* w = v.rows + static_cast<size_t>(static_cast<int>(row) + dy + dz * v.py) * v.words;
+        const uint64_t* w =
+            v.rows + static_cast<size_t>(static_cast<int>(row) + dy + dz * v.py) * v.words;
         uint64_t bits = w[wi] >> b;
         if (b > 61) bits |= w[wi + 1] << (64 - b);
         c |= static_cast<uint32_t>(bits & 7u) << ((dz + 1) * 9 + (dy + 1) * 3);
@@ -69,7 +74,8 @@ __global__ void border_kernel(View view, uint32_t* border, Ck3Counters* c) {
   const uint32_t idx = ((z * static_cast<uint32_t>(v.py) + y) << v.shift) | x;
   if (!view.get(idx)) return;
   bool interior = true;
-  for (int d = 0; d < 6; ++d) interior = interior && view.get(idx + static_cast<uint32_t>(v.faces[d]));
+  for (int d = 0; d < 6; ++d)
+    interior = interior && view.get(idx + static_cast<uint32_t>(v.faces[d]));
   if (interior) return;
   v.flags[idx] = thin::ck3::kInB;
   border[atomicAdd(&c->next, 1u)] = idx;
@@ -85,8 +91,8 @@ __global__ void classify_kernel(View view, const thin::ck3::RuleTables* t, thin:
   view.v.flags[idx] = thin::ck3::classify(*t, rule, code);
 }
 
-__global__ void pass_kernel(Ck3Pass pass, View view, const thin::ck3::RuleTables* t, const uint32_t* border,
-                            uint32_t n, const uint32_t* codes) {
+__global__ void pass_kernel(Ck3Pass pass, View view, const thin::ck3::RuleTables* t,
+                            const uint32_t* border, uint32_t n, const uint32_t* codes) {
   namespace r = thin::ck3;
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
@@ -94,40 +100,58 @@ __global__ void pass_kernel(Ck3Pass pass, View view, const thin::ck3::RuleTables
   const uint8_t f = view.flags(idx);
   uint8_t nf = f;
   switch (pass) {
-    case Ck3Pass::kCk3Surface: nf = r::ck3_surface(view, *t, idx, code, f); break;
-    case Ck3Pass::kCk3Candidate: nf = r::ck3_candidate(view, *t, idx, code, f); break;
-    case Ck3Pass::kIsthmusPairs: nf = r::isthmus_pairs(view, *t, idx, code, f); break;
-    case Ck3Pass::kIsthmusEdges: nf = r::isthmus_edges(view, *t, idx, code, f); break;
-    case Ck3Pass::kIsthmusSettle: nf = r::isthmus_settle(f); break;
-    case Ck3Pass::kLevel2: nf = r::level2(view, *t, idx, code, f); break;
-    case Ck3Pass::kLevel1: nf = r::level1(view, *t, idx, code, f); break;
+    case Ck3Pass::kCk3Surface:
+      nf = r::ck3_surface(view, *t, idx, code, f);
+      break;
+    case Ck3Pass::kCk3Candidate:
+      nf = r::ck3_candidate(view, *t, idx, code, f);
+      break;
+    case Ck3Pass::kIsthmusPairs:
+      nf = r::isthmus_pairs(view, *t, idx, code, f);
+      break;
+    case Ck3Pass::kIsthmusEdges:
+      nf = r::isthmus_edges(view, *t, idx, code, f);
+      break;
+    case Ck3Pass::kIsthmusSettle:
+      nf = r::isthmus_settle(f);
+      break;
+    case Ck3Pass::kLevel2:
+      nf = r::level2(view, *t, idx, code, f);
+      break;
+    case Ck3Pass::kLevel1:
+      nf = r::level1(view, *t, idx, code, f);
+      break;
   }
   if (nf != f) view.v.flags[idx] = nf;
 }
 
 __global__ void level0_kernel(View view, const thin::ck3::RuleTables* t, thin::ZeroCliqueTest test,
-                              const uint32_t* border, uint32_t n, const uint32_t* codes, uint32_t* deleted,
-                              Ck3Counters* c) {
+                              const uint32_t* border, uint32_t n, const uint32_t* codes,
+                              uint32_t* deleted, Ck3Counters* c) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const uint32_t idx = border[i];
-  if (thin::ck3::level0_deletes(view, *t, idx, codes[i], view.flags(idx), test)) deleted[atomicAdd(&c->deleted, 1u)] = i;
+  if (thin::ck3::level0_deletes(view, *t, idx, codes[i], view.flags(idx), test))
+    deleted[atomicAdd(&c->deleted, 1u)] = i;
 }
 
-__global__ void delete_kernel(View view, const uint32_t* border, const uint32_t* deleted, const Ck3Counters* c) {
+__global__ void delete_kernel(View view, const uint32_t* border, const uint32_t* deleted,
+                              const Ck3Counters* c) {
   const uint32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= c->deleted) return;
   const uint32_t idx = border[deleted[j]];
   const DeviceVolume& v = view.v;
   const uint32_t row = idx >> v.shift, x = idx & v.mask;
-  atomicAnd(reinterpret_cast<unsigned long long*>(&v.rows[static_cast<size_t>(row) * v.words + (x >> 6)]),
-            ~(1ull << (x & 63)));
+  atomicAnd(
+      reinterpret_cast<unsigned long long*>(&v.rows[static_cast<size_t>(row) * v.words + (x >> 6)]),
+      ~(1ull << (x & 63)));
   v.flags[idx] = 0;
 }
 
-// Survivors stay in the border list, K leaves it (after the deletions: deleted voxels have flags 0).
-__global__ void rebuild_kernel(View view, const uint32_t* border, uint32_t n, uint32_t* next, uint32_t* k_list,
-                               Ck3Counters* c) {
+// Survivors stay in the border list, K leaves it (after the deletions: deleted voxels have flags
+// 0).
+__global__ void rebuild_kernel(View view, const uint32_t* border, uint32_t n, uint32_t* next,
+                               uint32_t* k_list, Ck3Counters* c) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const uint32_t idx = border[i];
@@ -143,19 +167,22 @@ __global__ void rebuild_kernel(View view, const uint32_t* border, uint32_t n, ui
 }
 
 // Newly exposed voxels join the border list once (the flag word goes 0 -> kInB atomically).
-__global__ void grow_kernel(View view, const uint32_t* border, const uint32_t* deleted, uint32_t* next,
-                            Ck3Counters* c) {
+__global__ void grow_kernel(View view, const uint32_t* border, const uint32_t* deleted,
+                            uint32_t* next, Ck3Counters* c) {
   const uint32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= c->deleted) return;
   const uint32_t idx = border[deleted[j]];
   for (int d = 0; d < 6; ++d) {
     const uint32_t q = idx + static_cast<uint32_t>(view.v.faces[d]);
-    if (view.get(q) && atomicCAS(&view.v.flags[q], 0u, static_cast<uint32_t>(thin::ck3::kInB)) == 0u)
+    if (view.get(q) &&
+        atomicCAS(&view.v.flags[q], 0u, static_cast<uint32_t>(thin::ck3::kInB)) == 0u)
       next[atomicAdd(&c->next, 1u)] = q;
   }
 }
 
-int last_error() { return static_cast<int>(cudaGetLastError()); }
+int last_error() {
+  return static_cast<int>(cudaGetLastError());
+}
 
 }  // namespace
 
@@ -169,7 +196,8 @@ int launch_carve(const CarveArgs& a) {
 
 int launch_ck3_border(const DeviceVolume& v, uint32_t* border, Ck3Counters* c) {
   const uint64_t n = static_cast<uint64_t>(v.px - 4) * (v.py - 4) * (v.pz - 4);
-  border_kernel<<<static_cast<unsigned>((n + kThreads - 1) / kThreads), kThreads>>>(View{v}, border, c);
+  border_kernel<<<static_cast<unsigned>((n + kThreads - 1) / kThreads), kThreads>>>(View{v}, border,
+                                                                                    c);
   return last_error();
 }
 
@@ -180,22 +208,24 @@ int launch_ck3_classify(const DeviceVolume& v, const thin::ck3::RuleTables* t, t
   return last_error();
 }
 
-int launch_ck3_pass(Ck3Pass pass, const DeviceVolume& v, const thin::ck3::RuleTables* t, const uint32_t* border,
-                    uint32_t n, const uint32_t* codes) {
+int launch_ck3_pass(Ck3Pass pass, const DeviceVolume& v, const thin::ck3::RuleTables* t,
+                    const uint32_t* border, uint32_t n, const uint32_t* codes) {
   if (n == 0) return 0;
   pass_kernel<<<blocks_for(n), kThreads>>>(pass, View{v}, t, border, n, codes);
   return last_error();
 }
 
-int launch_ck3_level0(const DeviceVolume& v, const thin::ck3::RuleTables* t, thin::ZeroCliqueTest test,
-                      const uint32_t* border, uint32_t n, const uint32_t* codes, uint32_t* deleted, Ck3Counters* c) {
+int launch_ck3_level0(const DeviceVolume& v, const thin::ck3::RuleTables* t,
+                      thin::ZeroCliqueTest test, const uint32_t* border, uint32_t n,
+                      const uint32_t* codes, uint32_t* deleted, Ck3Counters* c) {
   if (n == 0) return 0;
   level0_kernel<<<blocks_for(n), kThreads>>>(View{v}, t, test, border, n, codes, deleted, c);
   return last_error();
 }
 
-int launch_ck3_settle(const DeviceVolume& v, const uint32_t* border, uint32_t n, const uint32_t* deleted,
-                      uint32_t max_deleted, uint32_t* next, uint32_t* k_list, Ck3Counters* c) {
+int launch_ck3_settle(const DeviceVolume& v, const uint32_t* border, uint32_t n,
+                      const uint32_t* deleted, uint32_t max_deleted, uint32_t* next,
+                      uint32_t* k_list, Ck3Counters* c) {
   if (n == 0) return 0;
   // The deletion count is on the device: launch for the most there can be, threads past it return.
   delete_kernel<<<blocks_for(max_deleted), kThreads>>>(View{v}, border, deleted, c);

@@ -8,7 +8,9 @@
 
 namespace hullpose::gpu {
 
-bool built_with_cuda() { return true; }
+bool built_with_cuda() {
+  return true;
+}
 
 DeviceInfo probe_device() {
   DeviceInfo info;

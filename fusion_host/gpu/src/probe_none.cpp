@@ -3,7 +3,9 @@
 
 namespace hullpose::gpu {
 
-bool built_with_cuda() { return false; }
+bool built_with_cuda() {
+  return false;
+}
 
 DeviceInfo probe_device() {
   DeviceInfo info;

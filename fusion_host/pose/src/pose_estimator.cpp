@@ -42,8 +42,8 @@ void PoseEstimator::reuse(int8_t reason, const char* detail) {
   HULLPOSE_LOG(Pose, Debug) << "frame not fresh: " << detail;
 }
 
-
-const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton, const VoxelGridSpec& grid) {
+const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton,
+                                            const VoxelGridSpec& grid) {
   ++frames_since_accepted_;
   out_.frame_stature_mm = 0;
   out_.shake_iterations = 0;
@@ -60,7 +60,8 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     return out_;
   }
   if (!has_accepted_ && tree.quality < params_.acquire_quality) {
-    reuse(Msg::REASON_INVALID_TREE, "labelling ranks below the quality needed to acquire a first pose");
+    reuse(Msg::REASON_INVALID_TREE,
+          "labelling ranks below the quality needed to acquire a first pose");
     return out_;
   }
 
@@ -69,7 +70,8 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
   out_.frame_stature_mm = frame_stature;
   const bool settled = stature_.count() >= params_.stature_settle_frames;
   if (!(frame_stature >= params_.min_stature_mm && frame_stature <= params_.max_stature_mm) ||
-      (settled && std::abs(frame_stature - out_.stature_mm) > params_.stature_tolerance * out_.stature_mm)) {
+      (settled &&
+       std::abs(frame_stature - out_.stature_mm) > params_.stature_tolerance * out_.stature_mm)) {
     out_.fit_us = timer.elapsed_us();
     reuse(Msg::REASON_INVALID_TREE, "skeleton size implausible for the subject's stature");
     return out_;
@@ -86,7 +88,8 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
   // Paper 6, algorithm 2: a pose that jumps further than tau from the last one is not trusted.
   if (has_accepted_ && frames_since_accepted_ <= params_.jump_memory_frames &&
       mean_displacement(fit.joints, accepted_) > params_.jump_mean_mm) {
-    const bool confirmed = has_pending_ && mean_displacement(fit.joints, pending_) <= params_.jump_mean_mm;
+    const bool confirmed =
+        has_pending_ && mean_displacement(fit.joints, pending_) <= params_.jump_mean_mm;
     if (!confirmed) {
       pending_ = fit.joints;
       has_pending_ = true;
@@ -106,7 +109,8 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
   out_.joints_mm = fit.joints;
   out_.confidence = fit.confidence;
   hint_.valid = true;
-  for (int s = 0; s < kNumExtremities; ++s) hint_.extremity_mm[s] = tree.position[tree.extremity[s]];
+  for (int s = 0; s < kNumExtremities; ++s)
+    hint_.extremity_mm[s] = tree.position[tree.extremity[s]];
   hint_.forward = tree.forward;
   return out_;
 }

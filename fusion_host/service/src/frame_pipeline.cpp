@@ -2,8 +2,8 @@
 
 namespace hullpose::fusion {
 
-void views_by_camera_index(const AssembledFrame& frame, size_t num_cameras, std::vector<cv::Mat>& masks,
-                           std::vector<PixelRoi>& rois) {
+void views_by_camera_index(const AssembledFrame& frame, size_t num_cameras,
+                           std::vector<cv::Mat>& masks, std::vector<PixelRoi>& rois) {
   masks.resize(num_cameras);
   rois.resize(num_cameras);
   for (auto& m : masks) m.release();

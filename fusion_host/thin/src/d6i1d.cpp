@@ -52,22 +52,28 @@ struct KeeperMasks {
 };
 constexpr KeeperMasks kKeeper;
 
-bool isthmus_1d(uint32_t code) { return !is_simple(code) && tbar_class(code) == 1 && nb::t26(code, 3) == 2; }
+bool isthmus_1d(uint32_t code) {
+  return !is_simple(code) && tbar_class(code) == 1 && nb::t26(code, 3) == 2;
+}
 
 // Deletable in direction d (notes §4.4); `code` is the voxel's neighbourhood, the voxel not in K.
 bool deletable(uint32_t code, int d) {
   const auto [axis_d, sign_d] = detail::kDirections[d];
-  if (code & (1u << nb::bit(axis_d == 0 ? sign_d : 0, axis_d == 1 ? sign_d : 0, axis_d == 2 ? sign_d : 0))) return false;
+  if (code &
+      (1u << nb::bit(axis_d == 0 ? sign_d : 0, axis_d == 1 ? sign_d : 0, axis_d == 2 ? sign_d : 0)))
+    return false;
   if (!is_simple(code)) return false;
   const uint32_t before = kKeeper.before[d];
   for (int e = 0; e < 6; ++e) {  // 2-cliques {x, x + e}
     const auto [axis, sign] = detail::kDirections[e];
-    const uint32_t eb = 1u << nb::bit(axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0);
+    const uint32_t eb =
+        1u << nb::bit(axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0);
     if (!(code & eb) || (eb & before)) continue;  // not a clique, or x is not its keeper
     if (detail::kRingTables.bits[nb::pair_ring(code, axis, sign)] & ck3::kRingCrucial) return false;
   }
   for (int axis = 0; axis < 3; ++axis) {  // 1-cliques around the 12 edges of x
-    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
+    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1),
+                   hi = nb::plane9(code, axis, 1);
     for (const nb::Quadrant& q : nb::kQuadrants)
       if ((p0 & q.cells & kKeeper.before_plane[d][axis]) == 0 && nb::quadrant_has_diagonal(p0, q) &&
           nb::edge_crucial(lo, hi, q))
@@ -88,7 +94,8 @@ struct D6i1dThinner::State {
   int face_off[6] = {};
 };
 
-D6i1dThinner::D6i1dThinner(const D6i1dOptions& options) : options_(options), state_(std::make_unique<State>()) {}
+D6i1dThinner::D6i1dThinner(const D6i1dOptions& options)
+    : options_(options), state_(std::make_unique<State>()) {}
 D6i1dThinner::~D6i1dThinner() = default;
 
 ThinStats D6i1dThinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constraint) {
@@ -135,7 +142,8 @@ ThinStats D6i1dThinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constrain
             s.pending.push_back(q);
           }
         }
-      s.border.erase(std::remove_if(s.border.begin(), s.border.end(), [&](uint32_t idx) { return vol.flags(idx) == 0; }),
+      s.border.erase(std::remove_if(s.border.begin(), s.border.end(),
+                                    [&](uint32_t idx) { return vol.flags(idx) == 0; }),
                      s.border.end());
       removed += s.deleted.size();
     }
@@ -143,7 +151,9 @@ ThinStats D6i1dThinner::thin(fusion::BitGrid& volume, fusion::BitGrid* constrain
     s.pending.clear();
     move_isthmuses_to_k();
     ++stats.iterations;
-    if (removed == 0 || (options_.max_iterations > 0 && stats.iterations >= options_.max_iterations)) break;
+    if (removed == 0 ||
+        (options_.max_iterations > 0 && stats.iterations >= options_.max_iterations))
+      break;
   }
   vol.store(volume, constraint, s.k_list);
   vol.zero_flags(s.border);

@@ -1,6 +1,7 @@
 // Build-time generator of the topology tables embedded in hullpose_thin (see simple_lut.cpp):
-//   bytes [0, 8 MiB):        simple-point LUT, bit i of 64-bit word i/64 = simple(code_from_index(i))
-//   bytes [8 MiB, +256 KiB): T̄ of every N18* configuration, clamped to 2 (one byte each)
+//   bytes [0, 8 MiB):        simple-point LUT, bit i of 64-bit word i/64 =
+//   simple(code_from_index(i)) bytes [8 MiB, +256 KiB): T̄ of every N18* configuration, clamped to 2
+//   (one byte each)
 // Run once per build tree instead of at every process start (the flood fill takes seconds).
 // Usage: hullpose_thin_lutgen OUT.bin
 #include <cstdint>
@@ -45,10 +46,12 @@ int main(int argc, char** argv) {
         for (uint32_t j = 0; j < 64; ++j) {
           const uint32_t code = nb::code_from_index(w * 64 + j);
           const uint32_t n18 = n18_of_byte[code & 0xff] | n18_of_byte[256 + (code >> 8 & 0xff)] |
-                               n18_of_byte[512 + (code >> 16 & 0xff)] | n18_of_byte[768 + (code >> 24)];
+                               n18_of_byte[512 + (code >> 16 & 0xff)] |
+                               n18_of_byte[768 + (code >> 24)];
           if (tbar[n18] != 1) continue;
           const uint32_t set = code & ~nb::kCentreBit;
-          if (set != 0 && nb::component<true>(set, set & (0u - set)) == set) bits |= uint64_t{1} << j;
+          if (set != 0 && nb::component<true>(set, set & (0u - set)) == set)
+            bits |= uint64_t{1} << j;
         }
         lut[w] = bits;
       }

@@ -28,8 +28,9 @@ constexpr std::array<uint32_t, 6> make_interior_masks() {
   for (int d = 0; d < 6; ++d) {
     const int a = kDirections[d].axis, s = kDirections[d].sign;
     const int u = (a + 1) % 3, v = (a + 2) % 3;
-    m[d] = offset_bit(a, s, u, 0, v, 0) | offset_bit(a, s, u, 1, v, 0) | offset_bit(a, s, u, -1, v, 0) |
-           offset_bit(a, s, u, 0, v, 1) | offset_bit(a, s, u, 0, v, -1);
+    m[d] = offset_bit(a, s, u, 0, v, 0) | offset_bit(a, s, u, 1, v, 0) |
+           offset_bit(a, s, u, -1, v, 0) | offset_bit(a, s, u, 0, v, 1) |
+           offset_bit(a, s, u, 0, v, -1);
   }
   return m;
 }
@@ -43,7 +44,8 @@ struct RingTables {
       const uint32_t r = g & ~0x10u;
       const int t8 = nb::ring_t8(r), t4b = nb::ring_t4bar(r);
       bits[g] = static_cast<uint8_t>((!(t8 == 1 && t4b == 1) ? ck3::kRingCrucial : 0) |
-                                     (t4b != 0 && t8 == 2 ? ck3::kRingIsthmus : 0) | (t4b == 0 ? ck3::kRingFull4 : 0));
+                                     (t4b != 0 && t8 == 2 ? ck3::kRingIsthmus : 0) |
+                                     (t4b == 0 ? ck3::kRingFull4 : 0));
     }
   }
 };

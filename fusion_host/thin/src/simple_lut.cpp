@@ -19,9 +19,11 @@ __asm__(
     ".type hullpose_tbar_lut, @object\n"
     ".size hullpose_tbar_lut, 262144\n"
     "hullpose_simple_lut:\n"
-    ".incbin \"" HULLPOSE_THIN_LUT_FILE "\", 0, 8388608\n"
+    ".incbin \"" HULLPOSE_THIN_LUT_FILE
+    "\", 0, 8388608\n"
     "hullpose_tbar_lut:\n"
-    ".incbin \"" HULLPOSE_THIN_LUT_FILE "\", 8388608, 262144\n"
+    ".incbin \"" HULLPOSE_THIN_LUT_FILE
+    "\", 8388608, 262144\n"
     ".previous\n");
 
 namespace hullpose::thin {
@@ -39,7 +41,8 @@ constexpr N18Bytes kN18Bytes;
 
 uint32_t n18_index_fast(uint32_t code) {
   const auto& t = kN18Bytes.v;
-  return t[code & 0xff] | t[256 + (code >> 8 & 0xff)] | t[512 + (code >> 16 & 0xff)] | t[768 + (code >> 24 & 0xff)];
+  return t[code & 0xff] | t[256 + (code >> 8 & 0xff)] | t[512 + (code >> 16 & 0xff)] |
+         t[768 + (code >> 24 & 0xff)];
 }
 
 }  // namespace hullpose::thin

@@ -127,7 +127,8 @@ void ComponentLabeller::Runs::connect(bool adjacency26) {
         const int o = oz * rows_y + oy;
         // Merge-walk the two sorted run lists.
         int i = row_start[static_cast<size_t>(r)], j = row_start[static_cast<size_t>(o)];
-        const int ie = row_start[static_cast<size_t>(r) + 1], je = row_start[static_cast<size_t>(o) + 1];
+        const int ie = row_start[static_cast<size_t>(r) + 1],
+                  je = row_start[static_cast<size_t>(o) + 1];
         while (i < ie && j < je) {
           const Run& a = runs[static_cast<size_t>(i)];
           const Run& b = runs[static_cast<size_t>(j)];
@@ -135,7 +136,10 @@ void ComponentLabeller::Runs::connect(bool adjacency26) {
             const int ra = find(i), rb = find(j);
             if (ra != rb) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
           }
-          if (a.x1 < b.x1) ++i; else ++j;
+          if (a.x1 < b.x1)
+            ++i;
+          else
+            ++j;
         }
       }
     }
@@ -152,7 +156,9 @@ int ComponentLabeller::label(const fusion::BitGrid& volume) {
   for (int z = 0; z < dims_.z(); ++z)
     for (int y = 0; y < dims_.y(); ++y) {
       R.row_start.push_back(static_cast<int>(R.runs.size()));
-      for_each_run(volume.row(y, z), volume.words_per_row(), [&](int x0, int x1) { R.runs.push_back({x0, x1}); });
+      for_each_run(volume.row(y, z), volume.words_per_row(), [&](int x0, int x1) {
+        R.runs.push_back({x0, x1});
+      });
     }
   R.row_start.push_back(static_cast<int>(R.runs.size()));
   R.connect(true);
@@ -181,7 +187,8 @@ void ComponentLabeller::extract(const std::vector<bool>& keep, fusion::BitGrid& 
     for (int y = 0; y < dims_.y(); ++y) {
       const int r = z * dims_.y() + y;
       uint64_t* row = out.row(y, z);
-      for (int i = R.row_start[static_cast<size_t>(r)]; i < R.row_start[static_cast<size_t>(r) + 1]; ++i) {
+      for (int i = R.row_start[static_cast<size_t>(r)]; i < R.row_start[static_cast<size_t>(r) + 1];
+           ++i) {
         if (!keep[static_cast<size_t>(comp_of_run_[static_cast<size_t>(i)])]) continue;
         for (int x = R.runs[static_cast<size_t>(i)].x0; x <= R.runs[static_cast<size_t>(i)].x1; ++x)
           row[x >> 6] |= uint64_t{1} << (x & 63);
@@ -241,7 +248,8 @@ int ComponentLabeller::count_cavities(const fusion::BitGrid& volume) {
   Runs& R = background_;
   int cavities = 0;
   for (size_t i = 0; i < R.runs.size(); ++i)
-    cavities += R.find(static_cast<int>(i)) == static_cast<int>(i) && static_cast<int>(i) != outside;
+    cavities +=
+        R.find(static_cast<int>(i)) == static_cast<int>(i) && static_cast<int>(i) != outside;
   return cavities;
 }
 
@@ -251,14 +259,15 @@ int ComponentLabeller::fill_cavities(fusion::BitGrid& volume, int64_t max_voxels
   const Eigen::Vector3i d = volume.dims();
   int filled = 0;
   for (size_t i = 0; i < R.runs.size(); ++i)
-    filled += R.find(static_cast<int>(i)) == static_cast<int>(i) && static_cast<int>(i) != outside &&
-              bg_size_[i] <= max_voxels;
+    filled += R.find(static_cast<int>(i)) == static_cast<int>(i) &&
+              static_cast<int>(i) != outside && bg_size_[i] <= max_voxels;
   if (filled == 0) return 0;
   for (int z = std::max(0, R.z0); z < std::min(d.z(), R.z0 + R.rows_z); ++z)
     for (int y = std::max(0, R.y0); y < std::min(d.y(), R.y0 + R.rows_y); ++y) {
       const int r = (z - R.z0) * R.rows_y + (y - R.y0);
       uint64_t* row = volume.row(y, z);
-      for (int i = R.row_start[static_cast<size_t>(r)]; i < R.row_start[static_cast<size_t>(r) + 1]; ++i) {
+      for (int i = R.row_start[static_cast<size_t>(r)]; i < R.row_start[static_cast<size_t>(r) + 1];
+           ++i) {
         const int root = R.find(i);
         if (root == outside || bg_size_[static_cast<size_t>(root)] > max_voxels) continue;
         for (int x = R.runs[static_cast<size_t>(i)].x0; x <= R.runs[static_cast<size_t>(i)].x1; ++x)

@@ -7,7 +7,8 @@
 
 namespace hullpose::fusion::testing {
 
-inline BitGrid fast(carve::Carver& c, const std::vector<cv::Mat>& views, carve::CarveReport* out = nullptr) {
+inline BitGrid fast(carve::Carver& c, const std::vector<cv::Mat>& views,
+                    carve::CarveReport* out = nullptr) {
   BitGrid hull;
   carve::CarveReport report;
   c.carve(views, hull, report);
@@ -20,6 +21,5 @@ inline BitGrid brute(const carve::Carver& c, const std::vector<cv::Mat>& views) 
   c.carve_brute_force(views, hull, report);
   return hull;
 }
-
 
 }  // namespace hullpose::fusion::testing

@@ -8,8 +8,8 @@ namespace hullpose::fusion::testing {
 
 namespace {
 
-CameraModel look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target, const Eigen::Vector3d& up,
-                    int width, int height) {
+CameraModel look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target,
+                    const Eigen::Vector3d& up, int width, int height) {
   CameraModel c;
   c.id = id;
   c.name = "cam" + std::to_string(id);
@@ -46,26 +46,30 @@ Rig thesis_like_rig(int width, int height, int cameras) {
   const Eigen::Vector3d target(0, 0, 1000);
   for (int i = 0; i < std::min(cameras, 7); ++i) {
     const double a = 2 * M_PI * i / 7 + 0.3;
-    rig.cameras.push_back(
-        look_at(i, {4000 * std::cos(a), 4000 * std::sin(a), 2000}, target, {0, 0, 1}, width, height));
+    rig.cameras.push_back(look_at(i, {4000 * std::cos(a), 4000 * std::sin(a), 2000}, target,
+                                  {0, 0, 1}, width, height));
   }
-  if (cameras >= 8) rig.cameras.push_back(look_at(7, {0, 0, 4500}, {0, 0, 0}, {0, 1, 0}, width, height));
+  if (cameras >= 8)
+    rig.cameras.push_back(look_at(7, {0, 0, 4500}, {0, 0, 0}, {0, 1, 0}, width, height));
   return rig;
 }
 
 std::vector<Capsule> human_capsules(double phase, double yaw, const Eigen::Vector2d& offset) {
   const double swing = std::sin(2 * M_PI * phase);
-  const double arm = 0.35 + 0.9 * (0.5 + 0.5 * std::sin(2 * M_PI * phase + 1.0));  // rad from the body
+  const double arm =
+      0.35 + 0.9 * (0.5 + 0.5 * std::sin(2 * M_PI * phase + 1.0));  // rad from the body
   std::vector<Capsule> body;
-  body.push_back({{0, 0, 920}, {0, 0, 1330}, 150});   // torso
-  body.push_back({{0, 0, 1420}, {0, 0, 1520}, 55});   // neck
-  body.push_back({{0, 10, 1600}, {0, 10, 1650}, 100});  // head
+  body.push_back({{0, 0, 920}, {0, 0, 1330}, 150});       // torso
+  body.push_back({{0, 0, 1420}, {0, 0, 1520}, 55});       // neck
+  body.push_back({{0, 10, 1600}, {0, 10, 1650}, 100});    // head
   body.push_back({{-170, 0, 1390}, {170, 0, 1390}, 65});  // shoulders
   body.push_back({{-100, 0, 900}, {100, 0, 900}, 110});   // pelvis
   for (int side = -1; side <= 1; side += 2) {
     const Eigen::Vector3d shoulder(side * 200, 0, 1390);
-    const Eigen::Vector3d elbow = shoulder + 280 * Eigen::Vector3d(side * std::sin(arm), 0.3 * swing * side, -std::cos(arm));
-    const Eigen::Vector3d hand = elbow + 260 * Eigen::Vector3d(side * std::sin(arm + 0.4), 0.2, -std::cos(arm + 0.4));
+    const Eigen::Vector3d elbow =
+        shoulder + 280 * Eigen::Vector3d(side * std::sin(arm), 0.3 * swing * side, -std::cos(arm));
+    const Eigen::Vector3d hand =
+        elbow + 260 * Eigen::Vector3d(side * std::sin(arm + 0.4), 0.2, -std::cos(arm + 0.4));
     body.push_back({shoulder, elbow, 48});
     body.push_back({elbow, hand, 40});
     const Eigen::Vector3d hip(side * 100, 0, 880);
@@ -99,7 +103,8 @@ cv::Mat render_silhouette(const CameraModel& camera, const std::vector<Capsule>&
     std::vector<cv::Point2f> pts;
     for (const Eigen::Vector3d& end : {c.a, c.b})
       for (const Eigen::Vector3d& d : dirs)
-        if (const auto p = camera.project(end + c.radius * d)) pts.emplace_back(static_cast<float>(p->x()), static_cast<float>(p->y()));
+        if (const auto p = camera.project(end + c.radius * d))
+          pts.emplace_back(static_cast<float>(p->x()), static_cast<float>(p->y()));
     if (pts.size() < 3) continue;
     std::vector<cv::Point2f> hull;
     cv::convexHull(pts, hull);

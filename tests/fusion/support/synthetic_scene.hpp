@@ -24,7 +24,8 @@ Rig thesis_like_rig(int width = 800, int height = 600, int cameras = 8);
 
 // A standing person (~1.75 m) made of capsules; `phase` in [0, 1) moves arms and legs, `yaw`
 // turns the body about z, `offset` moves it on the floor.
-std::vector<Capsule> human_capsules(double phase, double yaw = 0, const Eigen::Vector2d& offset = {0, 0});
+std::vector<Capsule> human_capsules(double phase, double yaw = 0,
+                                    const Eigen::Vector2d& offset = {0, 0});
 
 // Silhouette (CV_8UC1, 255 = person) of the capsules in one camera (convex hulls of projected
 // sphere samples; an approximation of the true outline, which is all a test input needs).

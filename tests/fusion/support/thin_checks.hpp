@@ -8,9 +8,11 @@
 
 namespace hullpose::fusion::testing {
 
-inline const thin::CurveRule kAllRules[] = {thin::CurveRule::kUltimate, thin::CurveRule::kCk3, thin::CurveRule::kIsthmus, thin::CurveRule::kEndVoxel};
+inline const thin::CurveRule kAllRules[] = {thin::CurveRule::kUltimate, thin::CurveRule::kCk3,
+                                            thin::CurveRule::kIsthmus, thin::CurveRule::kEndVoxel};
 
-inline BitGrid thinned(const BitGrid& x, thin::CurveRule rule, int threads = 1, BitGrid* k = nullptr, int max_iterations = 0) {
+inline BitGrid thinned(const BitGrid& x, thin::CurveRule rule, int threads = 1,
+                       BitGrid* k = nullptr, int max_iterations = 0) {
   thin::ThinOptions options{rule, thin::ZeroCliqueTest::kSpan3, threads, max_iterations};
   options.min_parallel_border = 0;  // run the parallel path even on small test volumes
   thin::Ck3Thinner t(options);
@@ -42,6 +44,5 @@ inline void check_thinning(const BitGrid& x, thin::CurveRule rule, bool check_cl
     CHECK(crucial_cliques_missed(x, step) == 0);
   }
 }
-
 
 }  // namespace hullpose::fusion::testing

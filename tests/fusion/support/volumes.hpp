@@ -19,10 +19,11 @@ BitGrid make_volume(const Eigen::Vector3i& dims, const Pred& inside);
 
 BitGrid box(int a, int b, int c, int margin = 3);
 BitGrid ball(double radius, bool even_centre, int margin = 3);
-BitGrid cylinder_x(double radius, int length, int margin = 3);  // axis along x, odd-centred
+BitGrid cylinder_x(double radius, int length, int margin = 3);        // axis along x, odd-centred
 BitGrid torus(double R, double r, bool even_centre, int margin = 3);  // in the xy plane
 BitGrid hollow_ball(double R, double thickness, int margin = 3);
-BitGrid cross_bars(int width, int length, int margin = 3);  // two width² bars crossing in the xy plane
+BitGrid cross_bars(int width, int length,
+                   int margin = 3);  // two width² bars crossing in the xy plane
 BitGrid trefoil_tube(double scale, double radius, int margin = 3);
 BitGrid random_blobs(std::mt19937& rng, int size, int blobs);
 BitGrid random_noise(std::mt19937& rng, const Eigen::Vector3i& dims, double density, int margin);

@@ -31,7 +31,8 @@ struct CameraModel {
   Eigen::Vector2d distort_normalised(const Eigen::Vector2d& xn) const;
   // Pixel to normalised undistorted coordinates (iterative inverse of the distortion).
   Eigen::Vector2d undistort_pixel(const Eigen::Vector2d& pixel) const;
-  // Pixel to the unit direction of its viewing ray, in world coordinates; the ray starts at centre().
+  // Pixel to the unit direction of its viewing ray, in world coordinates; the ray starts at
+  // centre().
   Eigen::Vector3d back_project(const Eigen::Vector2d& pixel) const;
   // Pixel and depth along the camera's z axis (mm) to a world point.
   Eigen::Vector3d back_project(const Eigen::Vector2d& pixel, double depth_mm) const;

@@ -35,11 +35,11 @@ namespace detail {
   } while (0)
 
 // Unconditional, so that even an unoptimised build sees the function end here (-Wreturn-type).
-#define HULLPOSE_THROW(stream_expr)                                        \
-  do {                                                                     \
-    std::ostringstream hullpose_msg_;                                      \
-    hullpose_msg_ << stream_expr;                                          \
-    ::hullpose::detail::throw_error(hullpose_msg_.str());                  \
+#define HULLPOSE_THROW(stream_expr)                       \
+  do {                                                    \
+    std::ostringstream hullpose_msg_;                     \
+    hullpose_msg_ << stream_expr;                         \
+    ::hullpose::detail::throw_error(hullpose_msg_.str()); \
   } while (0)
 
 #define HULLPOSE_ASSERT(cond)                                                  \

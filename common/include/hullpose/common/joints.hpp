@@ -10,26 +10,53 @@
 namespace hullpose {
 
 enum class Joint : uint8_t {
-  HeadTop, Head, Neck, Chest, LSho, RSho, LElb, RElb, LHand, RHand, LFTip, RFTip, UBack,
-  Back, LBack, LHip, RHip, LKne, RKne, LAnk, RAnk, LFoot, RFoot, LToe, RToe
+  HeadTop,
+  Head,
+  Neck,
+  Chest,
+  LSho,
+  RSho,
+  LElb,
+  RElb,
+  LHand,
+  RHand,
+  LFTip,
+  RFTip,
+  UBack,
+  Back,
+  LBack,
+  LHip,
+  RHip,
+  LKne,
+  RKne,
+  LAnk,
+  RAnk,
+  LFoot,
+  RFoot,
+  LToe,
+  RToe
 };
 inline constexpr int kNumJoints = 25;
 inline constexpr int kNumBones = 24;
 
 inline constexpr std::array<std::string_view, kNumJoints> kJointNames = {
-    "HeadTop", "Head", "Neck", "Chest", "LSho", "RSho", "LElb", "RElb", "LHand",
-    "RHand",   "LFTip", "RFTip", "UBack", "Back", "LBack", "LHip", "RHip", "LKne",
-    "RKne",    "LAnk", "RAnk", "LFoot", "RFoot", "LToe", "RToe"};
+    "HeadTop", "Head",  "Neck",  "Chest", "LSho",  "RSho",  "LElb", "RElb", "LHand",
+    "RHand",   "LFTip", "RFTip", "UBack", "Back",  "LBack", "LHip", "RHip", "LKne",
+    "RKne",    "LAnk",  "RAnk",  "LFoot", "RFoot", "LToe",  "RToe"};
 
-constexpr int index(Joint j) { return static_cast<int>(j); }
-constexpr std::string_view name(Joint j) { return kJointNames[static_cast<size_t>(j)]; }
+constexpr int index(Joint j) {
+  return static_cast<int>(j);
+}
+constexpr std::string_view name(Joint j) {
+  return kJointNames[static_cast<size_t>(j)];
+}
 std::optional<Joint> joint_from_name(std::string_view name);
 
 struct Bone {
   std::string_view name;  // thesis Table 6.7 name
   Joint parent;           // towards the chest
   Joint child;
-  double stature_ratio;   // bone length / stature (Table 6.7, the corrected ratios)
+  double stature_ratio;  // bone length / stature (Table 6.7, the corrected ratios)
 };
 
 // Rooted at Chest; parents precede children.

@@ -11,9 +11,9 @@
 namespace hullpose {
 
 struct VoxelGridSpec {
-  Eigen::Vector3i dims = Eigen::Vector3i::Zero();         // voxels along x, y, z
-  Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();    // min corner of voxel (0,0,0)
-  double voxel_mm = 0;                                    // edge length
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();       // voxels along x, y, z
+  Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();  // min corner of voxel (0,0,0)
+  double voxel_mm = 0;                                  // edge length
 
   static VoxelGridSpec fit(const CaptureVolume& volume, int resolution);
 

@@ -24,8 +24,11 @@ struct Primitive {
   double r = 0;
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
 
-  static Primitive capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r, Material m);
-  static Primitive sphere(const Eigen::Vector3d& c, double r, Material m) { return capsule(c, c, r, m); }
+  static Primitive capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r,
+                           Material m);
+  static Primitive sphere(const Eigen::Vector3d& c, double r, Material m) {
+    return capsule(c, c, r, m);
+  }
   static Primitive ellipsoid(const Eigen::Vector3d& c, const Eigen::Matrix3d& axes, Material m);
   // Centre and radius of a sphere that contains the primitive.
   Eigen::Vector3d bound_centre() const;
@@ -34,8 +37,8 @@ struct Primitive {
 
 struct BodyShape {
   double stature_mm = 1750;
-  double build = 1.0;        // girth multiplier: about 0.85 (slim, child) .. 1.35 (large adult)
-  double clothing_mm = 0;    // loose clothing: extra thickness on torso, upper arms and thighs
+  double build = 1.0;      // girth multiplier: about 0.85 (slim, child) .. 1.35 (large adult)
+  double clothing_mm = 0;  // loose clothing: extra thickness on torso, upper arms and thighs
 
   // "slim" | "average" | "large" (build only; the stature comes from the motion).
   static double build_preset(std::string_view name);

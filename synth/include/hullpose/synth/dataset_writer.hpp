@@ -16,20 +16,20 @@
 namespace hullpose::synth {
 
 struct SynthConfig {
-  std::string motion = "walk";     // built-in name or .bvh path
-  MotionOptions motion_options;    // centre_mm is set to the capture volume's floor centre
-  BodyShape body;                  // stature_mm is taken from the motion
+  std::string motion = "walk";   // built-in name or .bvh path
+  MotionOptions motion_options;  // centre_mm is set to the capture volume's floor centre
+  BodyShape body;                // stature_mm is taken from the motion
   std::filesystem::path out;
-  int frames = 0;                  // 0 = the whole clip (built-in motions: 300)
+  int frames = 0;  // 0 = the whole clip (built-in motions: 300)
   double fps = 30;
-  std::string rig = "thesis8";     // or a rig file
+  std::string rig = "thesis8";  // or a rig file
   bool rgb = false;
-  int backgrounds = 10;            // background-only frames per camera (with rgb)
+  int backgrounds = 10;  // background-only frames per camera (with rgb)
   SceneOptions scene;
   FaultSpec faults;
   uint64_t seed = 1;
   int64_t start_utime = 1'700'000'000'000'000;
-  int png_compression = 1;         // zlib level: masks compress well even at 1
+  int png_compression = 1;  // zlib level: masks compress well even at 1
 };
 
 struct SynthSummary {
@@ -41,6 +41,7 @@ struct SynthSummary {
 };
 
 // progress(done, total) is called from the calling thread after each frame.
-SynthSummary write_dataset(const SynthConfig& config, const std::function<void(int, int)>& progress = {});
+SynthSummary write_dataset(const SynthConfig& config,
+                           const std::function<void(int, int)>& progress = {});
 
 }  // namespace hullpose::synth

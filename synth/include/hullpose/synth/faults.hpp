@@ -11,17 +11,17 @@
 namespace hullpose::synth {
 
 struct FaultSpec {
-  double salt = 0;        // probability that a background pixel turns foreground
-  double pepper = 0;      // probability that a silhouette pixel turns background
-  double blobs = 0;       // mean number of spurious foreground blobs per mask (Poisson)
-  double holes = 0;       // mean number of holes punched into the silhouette per mask
-  double blob_px = 10;    // mean blob and hole radius, pixels
-  double calib_px = 0;    // sigma of the principal-point error of the written rig, pixels
-  double calib_deg = 0;   // sigma of the rotation error of the written rig, degrees
-  double jitter_ms = 0;   // sigma of each camera's trigger-time error, per frame
-  double drop = 0;        // probability that a camera's frame is missing
-  int dark_camera = -1;   // this camera goes dark (black frames, empty masks) ...
-  int dark_from = 0;      // ... from this frame on
+  double salt = 0;       // probability that a background pixel turns foreground
+  double pepper = 0;     // probability that a silhouette pixel turns background
+  double blobs = 0;      // mean number of spurious foreground blobs per mask (Poisson)
+  double holes = 0;      // mean number of holes punched into the silhouette per mask
+  double blob_px = 10;   // mean blob and hole radius, pixels
+  double calib_px = 0;   // sigma of the principal-point error of the written rig, pixels
+  double calib_deg = 0;  // sigma of the rotation error of the written rig, degrees
+  double jitter_ms = 0;  // sigma of each camera's trigger-time error, per frame
+  double drop = 0;       // probability that a camera's frame is missing
+  int dark_camera = -1;  // this camera goes dark (black frames, empty masks) ...
+  int dark_from = 0;     // ... from this frame on
 
   bool any() const;
   bool silhouette_noise() const { return salt > 0 || pepper > 0 || blobs > 0 || holes > 0; }

@@ -37,11 +37,11 @@ class Motion {
 
 struct MotionOptions {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  // floor point the subject moves around
-  double build = 1.0;          // girth multiplier (sets how far the soles reach below the joints)
+  double build = 1.0;  // girth multiplier (sets how far the soles reach below the joints)
   // Built-in motions only:
-  double stature_mm = 1750;    // body size
-  double speed = 1.0;          // tempo multiplier (1 = natural pace of the motion)
-  double stride_mm = 0;        // walk/run step length; 0 = the motion's default for the stature
+  double stature_mm = 1750;  // body size
+  double speed = 1.0;        // tempo multiplier (1 = natural pace of the motion)
+  double stride_mm = 0;      // walk/run step length; 0 = the motion's default for the stature
   // BVH only: millimetres per file unit; 0 = by naming scheme (CMU units for A/B, metres for C).
   double bvh_mm_per_unit = 0;
 };
@@ -55,7 +55,8 @@ BvhScheme detect_scheme(const BvhClip& clip);
 inline constexpr double kCmuUnitMm = 25.4 / 0.45;
 
 std::unique_ptr<Motion> make_bvh_motion(const BvhClip& clip, const MotionOptions& options);
-std::unique_ptr<Motion> load_bvh_motion(const std::filesystem::path& path, const MotionOptions& options);
+std::unique_ptr<Motion> load_bvh_motion(const std::filesystem::path& path,
+                                        const MotionOptions& options);
 
 // walk, run, jump, crouch, turn (pirouette), wave, tpose.
 const std::vector<std::string>& builtin_motion_names();

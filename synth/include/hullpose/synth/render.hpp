@@ -25,7 +25,8 @@ class ViewRenderer {
 
   // For colour rendering: per pixel the nearest primitive's material (255 = none, CV_8UC1) and
   // how squarely the surface faces the camera (0..1, CV_32FC1), plus the exact mask.
-  void render_layers(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat& material, cv::Mat& facing);
+  void render_layers(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat& material,
+                     cv::Mat& facing);
 
   // Unit viewing ray of a pixel in the camera frame (from the precomputed map).
   cv::Vec3f ray(int u, int v) const;
@@ -34,7 +35,8 @@ class ViewRenderer {
   struct Prepared;  // a primitive in camera coordinates, with its pixel bounding box
   bool prepare(const Primitive& p, Prepared& out) const;
   template <bool kLayers>
-  void raster(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat* material, cv::Mat* facing);
+  void raster(const std::vector<Primitive>& primitives, cv::Mat& mask, cv::Mat* material,
+              cv::Mat* facing);
 
   CameraModel camera_;
   cv::Mat rays_;   // CV_32FC2: undistorted normalised (x, y) of every pixel centre

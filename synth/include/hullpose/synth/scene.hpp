@@ -13,14 +13,14 @@
 namespace hullpose::synth {
 
 struct SceneOptions {
-  double room_half_mm = 6500;     // walls at x, y = +-room_half_mm (the cameras stand inside)
+  double room_half_mm = 6500;  // walls at x, y = +-room_half_mm (the cameras stand inside)
   double room_height_mm = 6000;
-  double shadow_strength = 0.5;   // fraction of light a full shadow takes away
-  double shadow_texel_mm = 60;    // shadow map resolution; the blur makes them soft
-  double drift = 0.08;            // relative amplitude of the slow illumination drift
+  double shadow_strength = 0.5;  // fraction of light a full shadow takes away
+  double shadow_texel_mm = 60;   // shadow map resolution; the blur makes them soft
+  double drift = 0.08;           // relative amplitude of the slow illumination drift
   double drift_period_s = 40;
-  double flicker = 0;             // sigma of the relative per-frame exposure error (0 = off)
-  double noise_sigma = 2.0;       // sensor noise, grey levels
+  double flicker = 0;        // sigma of the relative per-frame exposure error (0 = off)
+  double noise_sigma = 2.0;  // sensor noise, grey levels
 };
 
 class Scene {
@@ -57,15 +57,15 @@ class Scene {
 // Borrows the motion and the scene, which must outlive it. Buffers are reused between frames.
 class CameraRenderer {
  public:
-  CameraRenderer(const Motion& motion, const BodyShape& body, const CameraModel& camera, const Scene& scene,
-                 double fps);
+  CameraRenderer(const Motion& motion, const BodyShape& body, const CameraModel& camera,
+                 const Scene& scene, double fps);
   const CameraModel& camera() const { return view_.camera(); }
 
   // Frame `frame` at time frame / fps: colour (CV_8UC3, BGR) and the exact mask (CV_8UC1).
   void render(int frame, cv::Mat& bgr, cv::Mat& mask);
   // The same at an explicit time (trigger jitter) with the avatar and its shadow map given.
-  void render_posed(int frame, double t_s, const std::vector<Primitive>& primitives, const cv::Mat& shadow_atlas,
-                    cv::Mat& bgr, cv::Mat& mask);
+  void render_posed(int frame, double t_s, const std::vector<Primitive>& primitives,
+                    const cv::Mat& shadow_atlas, cv::Mat& bgr, cv::Mat& mask);
   // The empty room, as background-learning frames; index k is taken at time -k seconds.
   void render_background(int index, cv::Mat& bgr);
   // A camera gone dark: sensor noise on black.

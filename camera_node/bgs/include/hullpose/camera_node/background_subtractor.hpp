@@ -34,7 +34,8 @@ class BackgroundSubtractor {
 
 // Builds the method named `method` (horprasert, codebook, sobs, mog2, knn) from its parameters;
 // throws hullpose::Error naming the field for an unknown method or a bad or unknown parameter.
-std::unique_ptr<BackgroundSubtractor> make_subtractor(const std::string& method, const Params& params);
+std::unique_ptr<BackgroundSubtractor> make_subtractor(const std::string& method,
+                                                      const Params& params);
 std::vector<std::string> subtractor_names();
 
 }  // namespace hullpose::camera_node

@@ -18,9 +18,9 @@ namespace hullpose::camera_node {
 struct CodebookParams {
   double epsilon_learn = 12.0;   // colour distortion bound while learning (grey levels)
   double epsilon_detect = 16.0;  // ... while detecting
-  double alpha = 0.45;           // lower brightness bound as a fraction of Imax (shadows down to it)
-  double beta = 1.3;             // upper brightness bound as a fraction of Imax (highlights up to it)
-  int max_codewords = 4;         // per pixel; the most frequent are kept
+  double alpha = 0.45;    // lower brightness bound as a fraction of Imax (shadows down to it)
+  double beta = 1.3;      // upper brightness bound as a fraction of Imax (highlights up to it)
+  int max_codewords = 4;  // per pixel; the most frequent are kept
 
   static CodebookParams from(const Params& p);
 };
@@ -47,9 +47,9 @@ class Codebook final : public BackgroundSubtractor {
   CodebookParams params_;
   cv::Size size_;
   int frames_ = 0;
-  int slots_ = 0;                     // codewords per pixel in the learning store
-  std::vector<Codeword> learning_;    // pixel-major, slots_ per pixel
-  std::vector<uint8_t> count_;        // codewords per pixel
+  int slots_ = 0;                   // codewords per pixel in the learning store
+  std::vector<Codeword> learning_;  // pixel-major, slots_ per pixel
+  std::vector<uint8_t> count_;      // codewords per pixel
   // Detection model, structure of arrays, codewords sorted by frequency (most frequent first):
   // for codeword k, plane 5k+0..2 = unit mean colour, 5k+3 = low^2, 5k+4 = high^2 brightness bound.
   std::vector<std::vector<float>> planes_;

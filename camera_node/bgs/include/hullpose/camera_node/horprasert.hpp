@@ -17,10 +17,10 @@
 namespace hullpose::camera_node {
 
 struct HorprasertParams {
-  double detection_rate = 0.9995;       // fraction of learning pixels that must come out background
-  double min_sigma = 2.0;               // floor on the per-channel std. dev. (grey levels): sensor noise
+  double detection_rate = 0.9995;  // fraction of learning pixels that must come out background
+  double min_sigma = 2.0;          // floor on the per-channel std. dev. (grey levels): sensor noise
   double min_shadow_brightness = 0.45;  // alpha below this is a dark object, not a shadow
-  double cd_scale = 1.5;                // multiplies the learnt chromaticity threshold (margin for drift)
+  double cd_scale = 1.5;  // multiplies the learnt chromaticity threshold (margin for drift)
 
   static HorprasertParams from(const Params& p);
 };

@@ -17,14 +17,14 @@
 namespace hullpose::camera_node {
 
 struct SobsParams {
-  double epsilon_learn = 0.02;   // squared HSV-cone distance (cone of radius and height 1)
+  double epsilon_learn = 0.02;  // squared HSV-cone distance (cone of radius and height 1)
   double epsilon_online = 0.006;
-  double alpha_learn = 0.5;      // learning rate at the first learning frame
-  double alpha_online = 0.05;    // learning rate afterwards
-  double shadow_v_min = 0.4;     // shadow: V ratio to the background in [shadow_v_min, shadow_v_max]
+  double alpha_learn = 0.5;    // learning rate at the first learning frame
+  double alpha_online = 0.05;  // learning rate afterwards
+  double shadow_v_min = 0.4;   // shadow: V ratio to the background in [shadow_v_min, shadow_v_max]
   double shadow_v_max = 0.97;
-  double shadow_s_max = 0.12;    // |S - S_bg| at most
-  double shadow_h_max = 0.6;     // |H - H_bg| at most (radians)
+  double shadow_s_max = 0.12;  // |S - S_bg| at most
+  double shadow_h_max = 0.6;   // |H - H_bg| at most (radians)
 
   static SobsParams from(const Params& p);
 };

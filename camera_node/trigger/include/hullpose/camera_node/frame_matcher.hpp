@@ -16,9 +16,9 @@ namespace hullpose::trigger {
 
 struct TaggedFrame {
   int64_t frame_id = 0;
-  int64_t frame_us = 0;      // sensor timestamp, node clock
+  int64_t frame_us = 0;  // sensor timestamp, node clock
   MappedEdge edge;
-  int64_t residual_us = 0;   // frame_us - edge.edge_us
+  int64_t residual_us = 0;  // frame_us - edge.edge_us
   // Sensor timestamp on the master's clock (silhouette_t.capture_utime).
   int64_t capture_utime() const { return frame_us - edge.offset_us; }
 };
@@ -47,7 +47,7 @@ class FrameMatcher {
     bool used;
   };
   FrameMatcherConfig config_;
-  std::vector<Frame> frames_;     // oldest first, at most kFrames
+  std::vector<Frame> frames_;      // oldest first, at most kFrames
   std::vector<MappedEdge> edges_;  // oldest first, at most kEdges
   Counters counters_;
 };

@@ -24,24 +24,24 @@ namespace hullpose::trigger {
 
 struct Announcement {
   int64_t seq = 0;
-  int64_t utime = 0;         // master clock
+  int64_t utime = 0;  // master clock
   int64_t epoch = 0;
   int64_t period_us = 0;
-  int64_t received_us = 0;   // node clock
+  int64_t received_us = 0;  // node clock
 };
 
 struct MappedEdge {
-  int64_t edge_us = 0;       // node clock
+  int64_t edge_us = 0;  // node clock
   int64_t seq = 0;
-  int64_t utime = 0;         // the trigger instant on the master clock (announced or interpolated)
+  int64_t utime = 0;  // the trigger instant on the master clock (announced or interpolated)
   int64_t epoch = 0;
-  int64_t offset_us = 0;     // node clock - master clock at the time of mapping
+  int64_t offset_us = 0;  // node clock - master clock at the time of mapping
   bool interpolated = false;
 };
 
 struct MapperConfig {
-  int64_t max_latency_us = 15'000;   // announcement arrival after its edge, for offset pairing
-  int64_t hold_us = 200'000;         // an edge with no announcement at or after it by then is dropped
+  int64_t max_latency_us = 15'000;  // announcement arrival after its edge, for offset pairing
+  int64_t hold_us = 200'000;  // an edge with no announcement at or after it by then is dropped
   int64_t sync_timeout_us = 2'000'000;  // an edge older than this without an offset is dropped
   static constexpr size_t kAnnouncements = 64;
   static constexpr size_t kEdges = 64;
@@ -74,8 +74,8 @@ class SequenceMapper {
   std::vector<Announcement> ann_;  // sorted by seq, at most kAnnouncements
   std::vector<int64_t> history_;   // recent edge times (ring), for offset pairing
   size_t history_next_ = 0;
-  std::vector<int64_t> pending_;   // edges not yet mapped, oldest first
-  std::vector<int64_t> pairs_;     // scratch for the median
+  std::vector<int64_t> pending_;  // edges not yet mapped, oldest first
+  std::vector<int64_t> pairs_;    // scratch for the median
   int64_t epoch_ = 0;
   int64_t retired_epoch_ = 0;  // announcements of the previous master run are stale
   bool have_offset_ = false;

@@ -2,10 +2,9 @@
 // The camera node's trigger stage: TRIGGER announcements + edges from an EdgeSource + the
 // capture stage's frames in, frames tagged with (trigger_seq, utime, capture_utime) out.
 // Single-threaded: the node's loop calls it; nothing here blocks.
+#include <hullpose_msg/trigger_t.hpp>
 #include <string>
 #include <vector>
-
-#include <hullpose_msg/trigger_t.hpp>
 
 #include "hullpose/camera_node/edge_source.hpp"
 #include "hullpose/camera_node/frame_matcher.hpp"

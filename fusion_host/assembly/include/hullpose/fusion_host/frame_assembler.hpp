@@ -10,17 +10,17 @@
 //
 // Hostile input is expected: every message is checked (rig, camera, sizes against the rig file,
 // trigger time against this host's clock and the TRIGGER stream, payload through the codec with
-// the camera's size as limit) and a bad one is counted under its reason and dropped. Masks decode straight into buffers owned by the frame slots, which are
-// reused: no allocation per frame once every slot has been used.
+// the camera's size as limit) and a bad one is counted under its reason and dropped. Masks decode
+// straight into buffers owned by the frame slots, which are reused: no allocation per frame once
+// every slot has been used.
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <span>
-#include <vector>
-
 #include <hullpose_msg/silhouette_t.hpp>
 #include <hullpose_msg/trigger_t.hpp>
 #include <opencv2/core/mat.hpp>
+#include <span>
+#include <vector>
 
 #include "hullpose/common/counters.hpp"
 #include "hullpose/common/rig.hpp"
@@ -31,12 +31,12 @@ namespace hullpose::fusion {
 enum class DeadlineFrom { kFirstArrival, kTrigger };
 
 struct AssemblerConfig {
-  int min_cameras = 0;               // 0: all cameras but two (at least 1)
-  int64_t deadline_us = 33'000;      // about one frame period at 30 Hz
+  int min_cameras = 0;           // 0: all cameras but two (at least 1)
+  int64_t deadline_us = 33'000;  // about one frame period at 30 Hz
   DeadlineFrom deadline_from = DeadlineFrom::kFirstArrival;
   // A frame known only from its TRIGGER announcement closes this long after it (nodes' latency).
   int64_t no_views_timeout_us = 250'000;
-  size_t max_open = 8;               // open frames at most (bounded memory)
+  size_t max_open = 8;  // open frames at most (bounded memory)
   // A silhouette whose utime differs from its frame's by more than this is inconsistent.
   int64_t utime_tolerance_us = 5'000;
   // Without a TRIGGER stream to check against, trigger times further than this from this
@@ -47,22 +47,22 @@ struct AssemblerConfig {
 
 struct View {
   int camera_id = 0;
-  int camera_index = 0;              // index into Rig::cameras
-  const cv::Mat* mask = nullptr;     // CV_8UC1, full image, 255 = person
+  int camera_index = 0;           // index into Rig::cameras
+  const cv::Mat* mask = nullptr;  // CV_8UC1, full image, 255 = person
   PixelRoi roi;
-  int64_t capture_utime = 0;         // master clock
-  int64_t node_done_utime = 0;       // master clock
-  int64_t received_utime = 0;        // this host's clock
+  int64_t capture_utime = 0;    // master clock
+  int64_t node_done_utime = 0;  // master clock
+  int64_t received_utime = 0;   // this host's clock
 };
 
 enum class FrameStatus { kComplete, kPartial, kTooFew };
 
 struct AssembledFrame {
   int64_t trigger_seq = 0;
-  int64_t utime = 0;                 // trigger instant, master clock
+  int64_t utime = 0;  // trigger instant, master clock
   FrameStatus status = FrameStatus::kComplete;
-  std::span<const View> views;       // valid during the callback only
-  uint64_t camera_mask = 0;          // bit i: camera id i
+  std::span<const View> views;  // valid during the callback only
+  uint64_t camera_mask = 0;     // bit i: camera id i
   int64_t last_received_utime = 0;
 };
 
@@ -86,23 +86,23 @@ class FrameAssembler {
   size_t open_frames() const;
   // Drops: foreign_rig, unknown_camera, malformed_lcm, bad_encoding, wrong_size, bad_fields,
   // decode_error, implausible_time, inconsistent_utime, duplicate, late, capacity, seq_restart,
-  // epoch_change (TRIGGER), stale_epoch_trigger, bad_trigger, foreign_rig_trigger. Frames: fused_complete,
-  // fused_partial, too_few_cameras, no_views.
+  // epoch_change (TRIGGER), stale_epoch_trigger, bad_trigger, foreign_rig_trigger. Frames:
+  // fused_complete, fused_partial, too_few_cameras, no_views.
   const Counters& counters() const { return counters_; }
 
  private:
   struct Slot {
     bool open = false;
     int64_t seq = 0, utime = 0;
-    int64_t reference_us = 0;        // deadline reference (monotonic)
+    int64_t reference_us = 0;  // deadline reference (monotonic)
     bool has_reference = false;
     bool from_trigger_only = true;
     int present = 0;
     uint64_t camera_mask = 0;
     int64_t last_received_utime = 0;
-    std::vector<View> views;         // per camera index
-    std::vector<char> has;           // per camera index
-    std::vector<cv::Mat> masks;      // per camera index, reused
+    std::vector<View> views;     // per camera index
+    std::vector<char> has;       // per camera index
+    std::vector<cv::Mat> masks;  // per camera index, reused
   };
   // The open slot of seq, a newly opened one, or nullptr (counted late).
   Slot* find_or_open(int64_t seq, int64_t utime);
@@ -127,8 +127,8 @@ class FrameAssembler {
   int min_cameras_;
   std::vector<Slot> slots_;
   std::vector<View> scratch_;
-  hullpose_msg::silhouette_t msg_;   // decode target for on_bytes, reused
-  int64_t high_seq_ = -1;            // newest closed sequence
+  hullpose_msg::silhouette_t msg_;  // decode target for on_bytes, reused
+  int64_t high_seq_ = -1;           // newest closed sequence
   int64_t high_utime_ = 0;
   OnFrame on_frame_;
   Counters counters_;

@@ -25,7 +25,8 @@ struct CameraParams {
 
 // The pixel whose centre is nearest to the projected point (halves round up). False if the
 // point is not in front of the camera or the pixel is outside the image.
-HULLPOSE_HD inline bool project_to_pixel(const CameraParams& c, double wx, double wy, double wz, int& px, int& py) {
+HULLPOSE_HD inline bool project_to_pixel(const CameraParams& c, double wx, double wy, double wz,
+                                         int& px, int& py) {
   // Explicit fused multiply-adds: one rounding each, the same on both compilers, and as fast as
   // the contraction the compiler would otherwise choose on its own (x86 FMA, CUDA DFMA).
   const double X = fma(c.r[0], wx, fma(c.r[1], wy, fma(c.r[2], wz, c.t[0])));
@@ -49,20 +50,22 @@ HULLPOSE_HD inline bool project_to_pixel(const CameraParams& c, double wx, doubl
 // holds there (the GPU uploads only the foreground box).
 struct MaskView {
   const uint8_t* data = nullptr;
-  size_t stride = 0;  // bytes per row
+  size_t stride = 0;                                   // bytes per row
   int box_x0 = 0, box_y0 = 0, box_x1 = 0, box_y1 = 0;  // [x0, x1) x [y0, y1)
 };
 
 // Does the voxel centre project onto foreground in this camera?
-HULLPOSE_HD inline bool centre_hits(const CameraParams& c, const MaskView& m, double wx, double wy, double wz) {
+HULLPOSE_HD inline bool centre_hits(const CameraParams& c, const MaskView& m, double wx, double wy,
+                                    double wz) {
   int px, py;
-  return project_to_pixel(c, wx, wy, wz, px, py) && px >= m.box_x0 && px < m.box_x1 && py >= m.box_y0 &&
-         py < m.box_y1 && m.data[static_cast<size_t>(py) * m.stride + static_cast<size_t>(px)] != 0;
+  return project_to_pixel(c, wx, wy, wz, px, py) && px >= m.box_x0 && px < m.box_x1 &&
+         py >= m.box_y0 && py < m.box_y1 &&
+         m.data[static_cast<size_t>(py) * m.stride + static_cast<size_t>(px)] != 0;
 }
 
 // The carving rule: kept iff it misses in at most k of the n cameras (all but k).
-HULLPOSE_HD inline bool voxel_kept(const CameraParams* cams, const MaskView* masks, int n, int k, double wx, double wy,
-                                   double wz) {
+HULLPOSE_HD inline bool voxel_kept(const CameraParams* cams, const MaskView* masks, int n, int k,
+                                   double wx, double wy, double wz) {
   int misses = 0;
   for (int i = 0; i < n; ++i)
     if (!centre_hits(cams[i], masks[i], wx, wy, wz) && ++misses > k) return false;

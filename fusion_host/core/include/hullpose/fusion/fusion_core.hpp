@@ -34,8 +34,8 @@ namespace hullpose::fusion {
 enum class Skeletoniser { kCk3, kD6i1d };
 
 struct FusionOptions {
-  int resolution = 64;                          // voxels along the capture volume's longest axis
-  int tolerance = 0;                            // carving: a voxel may miss in k present cameras
+  int resolution = 64;  // voxels along the capture volume's longest axis
+  int tolerance = 0;    // carving: a voxel may miss in k present cameras
   // Carving and CK3 threads. Each CK3 iteration has 5 barriers: more than one thread pays only on
   // cores this process has to itself (measured: 2 threads on the shared, loaded 2-core build
   // machine are several times slower than 1).
@@ -58,19 +58,20 @@ const char* to_string(FusionFailure failure);
 struct FusionResult {
   bool valid = false;
   FusionFailure failure = FusionFailure::kNone;
-  VoxelGridSpec grid;                           // voxel coordinates below are in this grid
+  VoxelGridSpec grid;  // voxel coordinates below are in this grid
   carve::CarveReport carve;
   HullStats hull_stats;
   thin::ThinStats thin;
   StageTimings timings;
-  BitGrid hull;                                 // after clean-up
+  BitGrid hull;  // after clean-up
   BitGrid skeleton;
   std::vector<Eigen::Vector3i> skeleton_voxels;  // x-fastest order
 };
 
 class FusionCore {
  public:
-  // Throws hullpose::Error on a bad rig or options, or `--backend cuda` without a usable device. `counters`, if given, must outlive this.
+  // Throws hullpose::Error on a bad rig or options, or `--backend cuda` without a usable device.
+  // `counters`, if given, must outlive this.
   FusionCore(const Rig& rig, const FusionOptions& options, Counters* counters = nullptr);
   ~FusionCore();
   FusionCore(const FusionCore&) = delete;
@@ -78,7 +79,8 @@ class FusionCore {
 
   // views[i] is rig.cameras[i]'s silhouette (CV_8UC1, 255 = person) or an empty Mat if it sent
   // nothing; fg_boxes optionally its foreground box (the silhouette codec's ROI).
-  const FusionResult& process(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes = {});
+  const FusionResult& process(std::span<const cv::Mat> views,
+                              std::span<const PixelRoi> fg_boxes = {});
 
   const VoxelGridSpec& grid() const { return carver_.grid(); }
   const FusionOptions& options() const { return options_; }

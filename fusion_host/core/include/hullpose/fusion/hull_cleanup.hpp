@@ -17,13 +17,14 @@ struct CleanupOptions {
 };
 
 struct HullStats {
-  size_t carved_voxels = 0;   // before clean-up
-  size_t voxels = 0;          // after
-  int components = 0;         // 26-components before clean-up
+  size_t carved_voxels = 0;  // before clean-up
+  size_t voxels = 0;         // after
+  int components = 0;        // 26-components before clean-up
   int components_kept = 0;
   size_t voxels_dropped = 0;  // in the components removed
   int cavities_filled = 0;
-  Eigen::Vector3i bbox_min = Eigen::Vector3i::Zero(), bbox_max = Eigen::Vector3i::Constant(-1);  // inclusive
+  Eigen::Vector3i bbox_min = Eigen::Vector3i::Zero(),
+                  bbox_max = Eigen::Vector3i::Constant(-1);  // inclusive
 };
 
 class HullCleanup {

@@ -38,7 +38,8 @@ class CudaFusion {
   // Same contract and result as carve::Carver::carve.
   void carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, carve::CarveReport& report,
              std::span<const PixelRoi> fg_boxes = {});
-  // Same result as thin::Ck3Thinner::thin(volume) (no constraint set). `volume` has the grid's dims.
+  // Same result as thin::Ck3Thinner::thin(volume) (no constraint set). `volume` has the grid's
+  // dims.
   thin::ThinStats thin(fusion::BitGrid& volume);
 
   const GpuStageTimes& carve_times() const;

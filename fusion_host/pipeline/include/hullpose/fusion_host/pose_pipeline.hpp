@@ -3,7 +3,8 @@
 // offline replay (fusion_host/replay) and the live service (HullPipeline, fusion_host/service):
 //
 //   views by camera index -> FusionCore (carve -> clean-up -> thin; fusion_host/core)
-//                         -> pose::HullPoseEstimator (bottom-up tree -> fit, hull tracking; fusion_host/pose)
+//                         -> pose::HullPoseEstimator (bottom-up tree -> fit, hull tracking;
+//                         fusion_host/pose)
 //                         -> FrameOutcome: valid + the skeleton_t REASON_* to publish
 //
 // The pose stage sees every frame (an empty skeleton when the hull failed), so that its

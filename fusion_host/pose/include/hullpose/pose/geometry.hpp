@@ -8,7 +8,7 @@
 namespace hullpose::pose {
 
 struct Line {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // centroid of the fitted points
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();       // centroid of the fitted points
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
   Eigen::Vector3d project(const Eigen::Vector3d& p) const {
     return point + direction * direction.dot(p - point);

@@ -50,31 +50,37 @@ struct RuleTables {
   const uint8_t* tbar_lut = nullptr;     // 2^18 entries: T̄ clamped to 2
   uint32_t n18_bytes[4][256] = {};       // code byte -> its bits of the compacted N18* index
   uint8_t ring[512] = {};
-  uint32_t interior_mask[6] = {};        // face direction d: q = x + e and q's 4 face neighbours ⊥ e
+  uint32_t interior_mask[6] = {};  // face direction d: q = x + e and q's 4 face neighbours ⊥ e
   nb::Quadrant quadrants[4] = {};
   nb::Octant octants[8] = {};
-  uint8_t plane_bit[3][9] = {};          // nb::kPlaneCells
+  uint8_t plane_bit[3][9] = {};  // nb::kPlaneCells
 
   HULLPOSE_HD bool simple(uint32_t code) const {
     const uint32_t i = nb::lut_index(code);
     return (simple_lut[i >> 6] >> (i & 63) & 1u) != 0;
   }
   HULLPOSE_HD int tbar_class(uint32_t code) const {
-    return tbar_lut[n18_bytes[0][code & 0xff] | n18_bytes[1][code >> 8 & 0xff] | n18_bytes[2][code >> 16 & 0xff] |
-                    n18_bytes[3][code >> 24 & 0xff]];
+    return tbar_lut[n18_bytes[0][code & 0xff] | n18_bytes[1][code >> 8 & 0xff] |
+                    n18_bytes[2][code >> 16 & 0xff] | n18_bytes[3][code >> 24 & 0xff]];
   }
 };
 
 // Face direction d in D6I's order (notes §4.2): -z, +z, -y, +y, -x, +x.
-HULLPOSE_HD constexpr int direction_axis(int d) { return 2 - d / 2; }
-HULLPOSE_HD constexpr int direction_sign(int d) { return (d & 1) ? 1 : -1; }
+HULLPOSE_HD constexpr int direction_axis(int d) {
+  return 2 - d / 2;
+}
+HULLPOSE_HD constexpr int direction_sign(int d) {
+  return (d & 1) ? 1 : -1;
+}
 
 // Members of a clique other than x, given as 27-bit code bits, all "free" (flags & mask == want)?
 // Read lazily: most cliques of a border voxel contain an interior voxel, which fails at once.
 template <class V>
-HULLPOSE_HD bool members_free(const V& vol, uint32_t idx, uint32_t members, uint8_t mask, uint8_t want) {
+HULLPOSE_HD bool members_free(const V& vol, uint32_t idx, uint32_t members, uint8_t mask,
+                              uint8_t want) {
   for (uint32_t m = members & ~nb::kCentreBit; m != 0; m &= m - 1)
-    if ((vol.flags(idx + static_cast<uint32_t>(vol.off27(HULLPOSE_CTZ32(m)))) & mask) != want) return false;
+    if ((vol.flags(idx + static_cast<uint32_t>(vol.off27(HULLPOSE_CTZ32(m)))) & mask) != want)
+      return false;
   return true;
 }
 HULLPOSE_HD inline uint32_t plane_members(const RuleTables& t, uint32_t cells, int axis) {
@@ -88,7 +94,8 @@ HULLPOSE_HD inline uint8_t classify(const RuleTables& t, CurveRule rule, uint32_
   uint8_t f = kInB;
   const bool simple = t.simple(code);
   if (rule == CurveRule::kEndVoxel && HULLPOSE_POPC32(code & ~nb::kCentreBit) == 1) f |= kK;
-  if (rule == CurveRule::kIsthmus && !simple && t.tbar_class(code) == 1 && nb::t26(code, 3) == 2) f |= kK;
+  if (rule == CurveRule::kIsthmus && !simple && t.tbar_class(code) == 1 && nb::t26(code, 3) == 2)
+    f |= kK;
   if (!(f & kK)) {
     if (simple) {
       f |= kS0;
@@ -103,7 +110,8 @@ HULLPOSE_HD inline uint8_t classify(const RuleTables& t, CurveRule rule, uint32_
 // CK3 rule, pass 2a: surface 2-cliques (both voxels candidates, all four axial ring positions
 // occupied) mark kSurf.
 template <class V>
-HULLPOSE_HD uint8_t ck3_surface(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t ck3_surface(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                                uint8_t f) {
   if (!(f & kS0)) return f;
   for (int d = 0; d < 6; ++d)
     if ((vol.flags(idx + vol.face(d)) & kS0) &&
@@ -114,7 +122,8 @@ HULLPOSE_HD uint8_t ck3_surface(const V& vol, const RuleTables& t, uint32_t idx,
 // CK3 rule, pass 2b: residual voxels (no interior 6-neighbour) with no surface 26-neighbour are
 // curve voxels, not deletable in this iteration (notes §3.3); the other candidates get kS.
 template <class V>
-HULLPOSE_HD uint8_t ck3_candidate(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t ck3_candidate(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                                  uint8_t f) {
   if (!(f & kS0)) return f;
   bool residual = true;
   for (int d = 0; d < 6 && residual; ++d) {
@@ -129,7 +138,8 @@ HULLPOSE_HD uint8_t ck3_candidate(const V& vol, const RuleTables& t, uint32_t id
 // Isthmus rule, pass 2a: 2-clique isthmus (T4̄ != 0, T8 = 2) marks kPK; crucial 2-cliques of
 // candidates mark kZ2 for the 1-clique step.
 template <class V>
-HULLPOSE_HD uint8_t isthmus_pairs(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t isthmus_pairs(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                                  uint8_t f) {
   if (!(f & kS0)) return f;
   for (int d = 0; d < 6; ++d) {
     if (!(vol.flags(idx + vol.face(d)) & kS0)) continue;
@@ -142,10 +152,12 @@ HULLPOSE_HD uint8_t isthmus_pairs(const V& vol, const RuleTables& t, uint32_t id
 // Isthmus rule, pass 2b: 1-clique isthmus: candidates only, none marked at the 2-clique step,
 // both caps non-empty.
 template <class V>
-HULLPOSE_HD uint8_t isthmus_edges(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t isthmus_edges(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                                  uint8_t f) {
   if ((f & (kS0 | kZ2)) != kS0) return f;
   for (int axis = 0; axis < 3; ++axis) {
-    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
+    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1),
+                   hi = nb::plane9(code, axis, 1);
     for (int qi = 0; qi < 4; ++qi) {
       const nb::Quadrant& q = t.quadrants[qi];
       if (nb::quadrant_has_diagonal(p0, q) && (lo & q.cells) && (hi & q.cells) &&
@@ -164,7 +176,8 @@ HULLPOSE_HD inline uint8_t isthmus_settle(uint8_t f) {
 
 // Pass 3, level 2: crucial 2-cliques of two candidates.
 template <class V>
-HULLPOSE_HD uint8_t level2(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t level2(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                           uint8_t f) {
   if (!(f & kS)) return f;
   for (int d = 0; d < 6; ++d)
     if ((vol.flags(idx + vol.face(d)) & kS) &&
@@ -174,10 +187,12 @@ HULLPOSE_HD uint8_t level2(const V& vol, const RuleTables& t, uint32_t idx, uint
 }
 // Pass 4, level 1: crucial 1-cliques of unmarked candidates (level-2 marks only).
 template <class V>
-HULLPOSE_HD uint8_t level1(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f) {
+HULLPOSE_HD uint8_t level1(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                           uint8_t f) {
   if ((f & (kS | kZ2)) != kS) return f;
   for (int axis = 0; axis < 3; ++axis) {
-    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1), hi = nb::plane9(code, axis, 1);
+    const uint32_t p0 = nb::plane9(code, axis, 0), lo = nb::plane9(code, axis, -1),
+                   hi = nb::plane9(code, axis, 1);
     for (int qi = 0; qi < 4; ++qi) {
       const nb::Quadrant& q = t.quadrants[qi];
       if (nb::quadrant_has_diagonal(p0, q) && nb::edge_crucial(lo, hi, q) &&
@@ -189,13 +204,14 @@ HULLPOSE_HD uint8_t level1(const V& vol, const RuleTables& t, uint32_t idx, uint
 }
 // Pass 5, level 0: essential 0-cliques of unmarked candidates. True: the voxel is deleted.
 template <class V>
-HULLPOSE_HD bool level0_deletes(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code, uint8_t f,
-                                ZeroCliqueTest test) {
+HULLPOSE_HD bool level0_deletes(const V& vol, const RuleTables& t, uint32_t idx, uint32_t code,
+                                uint8_t f, ZeroCliqueTest test) {
   if ((f & (kS | kZ2 | kZ1)) != kS) return false;
   for (int oi = 0; oi < 8; ++oi) {
     const nb::Octant& o = t.octants[oi];
     const uint32_t block = code & o.cells;
-    if ((test == ZeroCliqueTest::kAntipodal ? nb::block_antipodal(block, o) : nb::block_spans3(block, o)) &&
+    if ((test == ZeroCliqueTest::kAntipodal ? nb::block_antipodal(block, o)
+                                            : nb::block_spans3(block, o)) &&
         members_free(vol, idx, block, kS | kZ2 | kZ1, kS))
       return false;
   }

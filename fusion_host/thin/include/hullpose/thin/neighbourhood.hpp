@@ -17,7 +17,9 @@ inline constexpr uint32_t kAll27 = (1u << 27) - 1;
 inline constexpr int kCentre = 13;
 inline constexpr uint32_t kCentreBit = 1u << kCentre;
 
-HULLPOSE_HD constexpr int bit(int dx, int dy, int dz) { return (dz + 1) * 9 + (dy + 1) * 3 + (dx + 1); }
+HULLPOSE_HD constexpr int bit(int dx, int dy, int dz) {
+  return (dz + 1) * 9 + (dy + 1) * 3 + (dx + 1);
+}
 
 // Positions by coordinate value along each axis (for the shift-based dilations below).
 HULLPOSE_HD constexpr uint32_t plane_mask(int axis, int value) {
@@ -32,8 +34,9 @@ HULLPOSE_HD constexpr uint32_t plane_mask(int axis, int value) {
 }
 
 // Face neighbours (6), and the 18-neighbourhood without the centre (faces + edges).
-inline constexpr uint32_t kFaces = (1u << bit(-1, 0, 0)) | (1u << bit(1, 0, 0)) | (1u << bit(0, -1, 0)) |
-                                   (1u << bit(0, 1, 0)) | (1u << bit(0, 0, -1)) | (1u << bit(0, 0, 1));
+inline constexpr uint32_t kFaces = (1u << bit(-1, 0, 0)) | (1u << bit(1, 0, 0)) |
+                                   (1u << bit(0, -1, 0)) | (1u << bit(0, 1, 0)) |
+                                   (1u << bit(0, 0, -1)) | (1u << bit(0, 0, 1));
 HULLPOSE_HD constexpr uint32_t n18_mask() {
   uint32_t m = 0;
   for (int dz = -1; dz <= 1; ++dz)
@@ -98,10 +101,14 @@ HULLPOSE_HD constexpr int t6bar(uint32_t code, int limit = 27) {
 }
 
 // Reference simple-point test by flood fill (the LUT in simple_lut.hpp is generated from this).
-HULLPOSE_HD constexpr bool simple_reference(uint32_t code) { return t6bar(code, 2) == 1 && t26(code, 2) == 1; }
+HULLPOSE_HD constexpr bool simple_reference(uint32_t code) {
+  return t6bar(code, 2) == 1 && t26(code, 2) == 1;
+}
 
 // 26 neighbour bits without the centre: the index of the simple-point LUT.
-HULLPOSE_HD constexpr uint32_t lut_index(uint32_t code) { return (code & 0x1fffu) | ((code >> 14 & 0x1fffu) << 13); }
+HULLPOSE_HD constexpr uint32_t lut_index(uint32_t code) {
+  return (code & 0x1fffu) | ((code >> 14 & 0x1fffu) << 13);
+}
 HULLPOSE_HD constexpr uint32_t code_from_index(uint32_t index) {
   return (index & 0x1fffu) | ((index >> 13 & 0x1fffu) << 14) | kCentreBit;
 }
@@ -191,14 +198,18 @@ HULLPOSE_HD constexpr int ring_t4bar(uint32_t g) {
   return n;
 }
 // Crucial 2-clique ⇔ NOT(T8 = 1 AND T4̄ = 1) over the projected ring (centre ignored).
-HULLPOSE_HD constexpr bool ring_crucial(uint32_t g) { return !(ring_t8(g) == 1 && ring_t4bar(g) == 1); }
+HULLPOSE_HD constexpr bool ring_crucial(uint32_t g) {
+  return !(ring_t8(g) == 1 && ring_t4bar(g) == 1);
+}
 
 // The ring of the 2-clique {x, x + e} with e = sign * unit(axis): the two planes OR'ed.
 HULLPOSE_HD constexpr uint32_t pair_ring(uint32_t code, int axis, int sign) {
   return (plane9(code, axis, 0) | plane9(code, axis, sign)) & ~0x10u;
 }
 // All four 4-neighbour ring positions occupied (T4̄ = 0): Pink's "surface" 2-clique.
-HULLPOSE_HD constexpr bool ring_full4(uint32_t g) { return (g & 0xaau) == 0xaau; }
+HULLPOSE_HD constexpr bool ring_full4(uint32_t g) {
+  return (g & 0xaau) == 0xaau;
+}
 
 // ---- 1-cliques (notes §2.3) ---------------------------------------------------------------
 // The four 2x2 quadrants of a plane grid that contain the centre cell (4), and in each the
@@ -249,9 +260,9 @@ HULLPOSE_HD constexpr Octant make_octant(int sx, int sy, int sz) {
     }
   return o;
 }
-inline constexpr Octant kOctants[8] = {make_octant(-1, -1, -1), make_octant(1, -1, -1), make_octant(-1, 1, -1),
-                                       make_octant(1, 1, -1),   make_octant(-1, -1, 1), make_octant(1, -1, 1),
-                                       make_octant(-1, 1, 1),   make_octant(1, 1, 1)};
+inline constexpr Octant kOctants[8] = {
+    make_octant(-1, -1, -1), make_octant(1, -1, -1), make_octant(-1, 1, -1), make_octant(1, 1, -1),
+    make_octant(-1, -1, 1),  make_octant(1, -1, 1),  make_octant(-1, 1, 1),  make_octant(1, 1, 1)};
 // Corrected test (notes §2.4): Q ∩ X spans all three axes. `block` = code & o.cells (has centre).
 HULLPOSE_HD constexpr bool block_spans3(uint32_t block, const Octant& o) {
   return (block & o.far[0]) != 0 && (block & o.far[1]) != 0 && (block & o.far[2]) != 0;

@@ -22,12 +22,16 @@ inline bool is_simple(uint32_t code) {
 }
 
 // Starts loading the LUT word of `code` (is_simple's only cache miss) ahead of its use.
-inline void prefetch_simple(uint32_t code) { __builtin_prefetch(&hullpose_simple_lut[nb::lut_index(code) >> 6]); }
+inline void prefetch_simple(uint32_t code) {
+  __builtin_prefetch(&hullpose_simple_lut[nb::lut_index(code) >> 6]);
+}
 
 // The N18* bits of a code compacted to 18 bits, by table (4 byte lookups).
 uint32_t n18_index_fast(uint32_t code);
 
 // T̄(x) clamped to 2: 0 = interior, 1 = one background component, 2 = two or more (2D isthmus).
-inline int tbar_class(uint32_t code) { return hullpose_tbar_lut[n18_index_fast(code)]; }
+inline int tbar_class(uint32_t code) {
+  return hullpose_tbar_lut[n18_index_fast(code)];
+}
 
 }  // namespace hullpose::thin

@@ -37,11 +37,11 @@ struct ThinOptions {
 };
 
 struct ThinStats {
-  int iterations = 0;       // iterations run, including the last one that deleted nothing
+  int iterations = 0;  // iterations run, including the last one that deleted nothing
   size_t initial_voxels = 0;
   size_t final_voxels = 0;
-  size_t constrained = 0;   // |K| at the end (isthmus and end-voxel rules)
-  size_t visited = 0;       // border-list entries classified, summed over iterations
+  size_t constrained = 0;  // |K| at the end (isthmus and end-voxel rules)
+  size_t visited = 0;      // border-list entries classified, summed over iterations
 };
 
 class Ck3Thinner {
@@ -52,8 +52,8 @@ class Ck3Thinner {
   Ck3Thinner& operator=(const Ck3Thinner&) = delete;
 
   // Thins `volume` in place. `constraint`, if given, is the initial K (voxels never deleted;
-  // must have the volume's dims or be empty, voxels outside the object are ignored) and receives the final
-  // K, so a second call with it carried over is a fixed point (notes §5.3).
+  // must have the volume's dims or be empty, voxels outside the object are ignored) and receives
+  // the final K, so a second call with it carried over is a fixed point (notes §5.3).
   ThinStats thin(fusion::BitGrid& volume, fusion::BitGrid* constraint = nullptr);
 
   const ThinOptions& options() const { return options_; }

@@ -25,7 +25,9 @@ class BitGrid {
 
   const Eigen::Vector3i& dims() const { return dims_; }
   int words_per_row() const { return words_per_row_; }
-  size_t row_index(int y, int z) const { return (static_cast<size_t>(z) * dims_.y() + y) * words_per_row_; }
+  size_t row_index(int y, int z) const {
+    return (static_cast<size_t>(z) * dims_.y() + y) * words_per_row_;
+  }
   uint64_t* row(int y, int z) { return words_.data() + row_index(y, z); }
   const uint64_t* row(int y, int z) const { return words_.data() + row_index(y, z); }
   std::vector<uint64_t>& words() { return words_; }
@@ -54,7 +56,8 @@ class BitGrid {
       for (int y = 0; y < dims_.y(); ++y) {
         const uint64_t* r = row(y, z);
         for (int w = 0; w < words_per_row_; ++w)
-          for (uint64_t bits = r[w]; bits != 0; bits &= bits - 1) f(w * 64 + std::countr_zero(bits), y, z);
+          for (uint64_t bits = r[w]; bits != 0; bits &= bits - 1)
+            f(w * 64 + std::countr_zero(bits), y, z);
       }
   }
   bool operator==(const BitGrid& o) const { return dims_ == o.dims_ && words_ == o.words_; }
