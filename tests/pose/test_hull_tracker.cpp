@@ -146,10 +146,17 @@ TEST_CASE("a subject seen in few confident frames is held after hold_after_frame
   est.reset(1700);
   std::array<double, kNumBones> radius;
   radius.fill(std::nan(""));
+  // One confident frame in five: enough for the hold (min_hold_frames), too few to converge.
+  int confident = 0;
   for (int f = 0; f < p.hold_after_frames - 1; ++f) {
     est.tick();
-    if (f % 10 == 0) est.add(LengthEvidence{}, radius);  // 15 confident frames of 149
+    if (f % 5 == 0) {
+      est.add(LengthEvidence{}, radius);
+      ++confident;
+    }
   }
+  REQUIRE(confident >= p.min_hold_frames);
+  REQUIRE(confident < p.converge_frames);
   CHECK(!est.held());
   est.tick();
   CHECK(est.version() == 1);
