@@ -6,7 +6,8 @@
 # usage: build.sh [DIR=build-arm64] [JOBS=nproc]
 #   DIR/sysroot   the arm64 sysroot          DIR/build   the CMake build
 #   DIR/packages  the arm64 .debs            DIR/figures.txt  times and test counts
-# CUDA is off (a Jetson builds natively with JetPack's nvcc: deploy/boards/jetson-orin-fusion.md).
+# CUDA is off (a Jetson builds natively with JetPack's nvcc: deploy/boards/jetson-orin-fusion.md), and
+# so is the synthetic frame source: a board's production camera node carries no renderer.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 dir=$(mkdir -p "${1:-build-arm64}" && cd "${1:-build-arm64}" && pwd)
@@ -24,6 +25,7 @@ export PKG_CONFIG_LIBDIR=$dir/sysroot/usr/lib/aarch64-linux-gnu/pkgconfig:$dir/s
 export PKG_CONFIG_PATH=
 cmake -S "$root" -B "$dir/build" -DCMAKE_TOOLCHAIN_FILE="$root/deploy/cross/toolchain-aarch64.cmake" \
   -DHULLPOSE_SYSROOT="$dir/sysroot" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHULLPOSE_NATIVE=OFF -DHULLPOSE_CUDA=OFF \
+  -DHULLPOSE_SYNTHETIC_SOURCE=OFF \
   -DHULLPOSE_SHARED_DIR="$root/../shared" > "$dir/configure.log"
 
 # What the packages install, plus the unit tests ctest will run (benchmarks, fuzz targets and

@@ -6,18 +6,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace {
-
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out;
-}
 
 class JsonLinesReporter : public benchmark::BenchmarkReporter {
  public:
@@ -27,38 +20,42 @@ class JsonLinesReporter : public benchmark::BenchmarkReporter {
       const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
       const bool single = run.run_type == Run::RT_Iteration && run.repetitions <= 1;
       if (!median && !single) continue;
+      nlohmann::ordered_json line;
+      line["name"] = run.run_name.str();
       if (run.error_occurred) {
-        std::printf("{\"name\": \"%s\", \"error\": \"%s\"}\n",
-                    json_escape(run.run_name.str()).c_str(),
-                    json_escape(run.error_message).c_str());
+        line["error"] = run.error_message;
+        print(line);
         continue;
       }
-      const double ms =
-          run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
+      const double unit = benchmark::GetTimeUnitMultiplier(run.time_unit);
+      line["median_ms"] = figure(run.GetAdjustedRealTime() / unit * 1e3);
       // cpu_ms: this thread's CPU time, the figure to read on a shared, loaded machine.
-      const double cpu_ms =
-          run.GetAdjustedCPUTime() / benchmark::GetTimeUnitMultiplier(run.time_unit) * 1e3;
-      std::string line = "{\"name\": \"" + json_escape(run.run_name.str()) +
-                         "\", \"median_ms\": " + fmt(ms) + ", \"cpu_ms\": " + fmt(cpu_ms) +
-                         (median ? ", \"repetitions\": " + std::to_string(run.repetitions)
-                                 : ", \"iterations\": " + std::to_string(run.iterations));
-      for (const auto& [key, counter] : run.counters)
-        line += ", \"" + json_escape(key) + "\": " + fmt(counter.value);
+      line["cpu_ms"] = figure(run.GetAdjustedCPUTime() / unit * 1e3);
+      if (median)
+        line["repetitions"] = run.repetitions;
+      else
+        line["iterations"] = run.iterations;
+      for (const auto& [key, counter] : run.counters) line[key] = figure(counter.value);
       if (run.report_label.rfind("peer=", 0) == 0)
-        line += ", \"peer\": \"" + json_escape(run.report_label.substr(5)) + "\"";
+        line["peer"] = run.report_label.substr(5);
       else if (!run.report_label.empty())
-        line += ", \"label\": \"" + json_escape(run.report_label) + "\"";
-      std::printf("%s}\n", line.c_str());
-      std::fflush(stdout);
+        line["label"] = run.report_label;
+      print(line);
     }
   }
 
  private:
-  static std::string fmt(double v) {
-    if (!std::isfinite(v)) return "null";
+  // Six significant digits (the benchmarks' noise is far larger); null for NaN or infinity.
+  static nlohmann::ordered_json figure(double v) {
+    if (!std::isfinite(v)) return nullptr;
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
+    return std::strtod(buf, nullptr);
+  }
+  static void print(const nlohmann::ordered_json& line) {
+    std::printf("%s\n",
+                line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    std::fflush(stdout);
   }
 };
 
