@@ -8,12 +8,17 @@ set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)
 set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
 
+# CMake reads this file more than once, and not every reading sees -DHULLPOSE_SYSROOT (the
+# cache is not loaded yet): the first reading hands it on through the environment. An empty
+# value must fail, not fall through to "/usr/lib/aarch64-linux-gnu", which the cross binutils
+# create on the host: the pkg-config paths below would then point at the host.
 if(NOT HULLPOSE_SYSROOT)
   set(HULLPOSE_SYSROOT "$ENV{HULLPOSE_SYSROOT}")
 endif()
-if(NOT IS_DIRECTORY "${HULLPOSE_SYSROOT}/usr/lib/aarch64-linux-gnu")
+if(HULLPOSE_SYSROOT STREQUAL "" OR NOT IS_DIRECTORY "${HULLPOSE_SYSROOT}/usr/lib/aarch64-linux-gnu")
   message(FATAL_ERROR "HULLPOSE_SYSROOT='${HULLPOSE_SYSROOT}' is not an arm64 sysroot (deploy/cross/make-sysroot.sh makes one)")
 endif()
+set(ENV{HULLPOSE_SYSROOT} "${HULLPOSE_SYSROOT}")
 set(HULLPOSE_SYSROOT "${HULLPOSE_SYSROOT}" CACHE PATH "The arm64 sysroot" FORCE)
 set(CMAKE_SYSROOT "${HULLPOSE_SYSROOT}")
 set(CMAKE_FIND_ROOT_PATH "${HULLPOSE_SYSROOT}")
