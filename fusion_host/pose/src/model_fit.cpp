@@ -156,7 +156,7 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
   // Bones exactly to length at the end, whatever the pseudo-constraints did.
   take_reference();
   result.max_bone_error_mm = 0;
-  for (int s = 0; s < params.max_bone_sweeps * 4; ++s) {
+  for (int s = 0; s < params.max_bone_sweeps * params.final_sweep_factor; ++s) {
     take_reference();
     if (sweep_bones(x, reference) < params.bone_tolerance_mm) break;
   }
@@ -356,7 +356,8 @@ const FitResult& ModelFitter::fit(const LabelledTree& tree, double stature_mm) {
     const auto& p = paths[s];
     compute_arcs(tree, p);
     for (size_t k = 0; k < p.size(); ++k)
-      if (arc_.back() - arc_[k] <= 0.15 * stature_mm) upper.add(tree.position[p[k]]);
+      if (arc_.back() - arc_[k] <= params_.shoulder_reach_ratio * stature_mm)
+        upper.add(tree.position[p[k]]);
   }
   Eigen::Vector3d shoulder_axis = tree.left;
   if (upper.count() >= 4) {

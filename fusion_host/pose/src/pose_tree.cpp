@@ -629,7 +629,7 @@ void PoseTreeBuilder::settle_sides(int a, int b, bool first_left, bool weak,
 // Arms, algorithm 6: lines through the nodes nearest the torso, pointing away from it.
 void PoseTreeBuilder::settle_arms(const TemporalHint& hint, double stature) {
   const auto& paths = tree_.limb_path;
-  const double set_mm = 1.5 * bone_ratio(Joint::LSho) * stature;
+  const double set_mm = params_.arm_side_shoulder_widths * bone_ratio(Joint::LSho) * stature;
   const Eigen::Vector3d v1 = path_direction(paths[kHand1], 0, set_mm, true);
   const Eigen::Vector3d v2 = path_direction(paths[kHand2], 0, set_mm, true);
   const Eigen::Vector3d& f = tree_.forward;
@@ -656,7 +656,7 @@ void PoseTreeBuilder::settle_arms(const TemporalHint& hint, double stature) {
 // whenever the legs are close, and the angle comparison then follows noise.
 void PoseTreeBuilder::settle_legs(const TemporalHint& hint, double stature, double thigh) {
   const auto& paths = tree_.limb_path;
-  const double set_mm = bone_ratio(Joint::LHip) * stature + 0.5 * thigh;
+  const double set_mm = bone_ratio(Joint::LHip) * stature + params_.leg_side_thighs * thigh;
   auto lateral = [&](const std::vector<int32_t>& path) {
     MomentAccumulator m;
     double arc = 0;

@@ -38,6 +38,10 @@ struct ShakeParams {
   // tolerance: the final sweeps stopped on their count, not on the tolerance).
   double max_bone_error_mm = 0.1;
   int max_bone_sweeps = 400;
+  // The last pass, which puts every bone exactly to length after the pseudo-constraints are
+  // done, may sweep this many times max_bone_sweeps: nothing pulls against it any more, so it
+  // only needs longer when the pose was far from the lengths (a first frame).
+  int final_sweep_factor = 4;
 };
 
 class Shake {
@@ -93,6 +97,10 @@ struct FitParams {
   // the upper chest, which turns with the shoulders when the torso twists (paper 6 leaves the
   // extent open; 0.1 has been the value since the first fit, not tuned to a clip).
   double upper_torso_ratio = 0.1;
+  // ... together with the arm nodes within this many statures of the origin: the shoulders
+  // (the shoulder bone is 0.111 statures in thesis Table 6.7, so 0.15 takes in the shoulder and
+  // the top of the upper arm; the value since the shoulder plane was added, not tuned to a clip).
+  double shoulder_reach_ratio = 0.15;
 };
 
 struct FitResult {

@@ -55,6 +55,11 @@ struct TreeParams {
   // when a previous valid frame exists.
   double lr_min_margin_deg = 8;  // arms: angular margin of algorithm 6
   double lr_min_margin_mm = 30;  // legs: lateral separation of the thighs
+  // How much of each path the left/right decision reads, from its junction: arms 1.5 shoulder
+  // widths (the upper arm, past the shoulder node, before the elbow bends it), legs the hip
+  // offset plus half a thigh (above the knee). Body proportions, not tuned to a clip.
+  double arm_side_shoulder_widths = 1.5;
+  double leg_side_thighs = 0.5;
   // An upside-down labelling (origin below the pelvis) wins only if it ranks this much better
   // than the best upright one: people stand far more often than they stand on their hands, and
   // on a skeleton whose arms hang beside the legs the two readings rank alike.
