@@ -1,43 +1,13 @@
 // The fusion core facade: silhouettes in, cleaned hull and skeleton out; clean-up; no
 // allocation per frame at steady state.
-#include <atomic>
 #include <catch2/catch.hpp>
-#include <cstdlib>
-#include <new>
 
 #include "hullpose/fusion/fusion_core.hpp"
 #include "hullpose/thin/topology_stats.hpp"
+#include "support/alloc_count.hpp"
 #include "support/synthetic_scene.hpp"
 #include "support/test_sizes.hpp"
 #include "support/volumes.hpp"
-
-// Counts heap allocations of this test executable. Not under AddressSanitizer, which owns
-// operator new/delete (its nothrow new would meet our malloc-based delete).
-#if defined(__SANITIZE_ADDRESS__)
-#define HULLPOSE_COUNT_ALLOCATIONS 0
-#else
-#define HULLPOSE_COUNT_ALLOCATIONS 1
-#endif
-namespace {
-std::atomic<int64_t> g_allocations{0};
-}
-#if HULLPOSE_COUNT_ALLOCATIONS
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-// GCC cannot see that these deletes pair with the malloc-based new above.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-#pragma GCC diagnostic pop
-#endif
 
 using namespace hullpose;
 using fusion::BitGrid;
@@ -129,9 +99,8 @@ TEST_CASE("no allocation per frame at steady state") {
     core.process(a);
     core.process(b);
   }
-  const int64_t before = g_allocations.load();
+  const long before = hullpose::test::allocations();
   core.process(a);
   core.process(b);
-  if (!HULLPOSE_COUNT_ALLOCATIONS) WARN("allocations are not counted under AddressSanitizer");
-  CHECK(g_allocations.load() - before == 0);
+  CHECK(hullpose::test::allocations() - before == 0);
 }

@@ -1,51 +1,12 @@
 // The pose stage does not allocate per frame at steady state: global operator new is counted
 // while a sequence of frames is estimated a second time.
-// The replaced operator new/delete pair malloc and free on purpose; GCC's mismatch check sees
-// std::free of an operator new pointer once inlining crosses the replacement.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#include <atomic>
 #include <catch2/catch.hpp>
-#include <cstdlib>
-#include <new>
 
 #include "capsule_hull.hpp"
 #include "hullpose/pose/hull_pose_estimator.hpp"
 #include "hullpose/pose/pose_estimator.hpp"
 #include "stick_figure.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  return operator new(n);
-}
-// The nothrow forms too (Catch uses them): otherwise they come from the runtime while their
-// delete comes from here, which ASan rightly reports as an alloc-dealloc mismatch.
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& tag) noexcept {
-  return operator new(n, tag);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_count.hpp"
 
 using namespace hullpose;
 using namespace hullpose::pose;
@@ -66,10 +27,10 @@ TEST_CASE("no allocation per frame at steady state") {
   frames.push_back({});  // an empty frame on the way
   PoseEstimator estimator;
   for (const auto& f : frames) estimator.estimate(f, g);  // warm up: buffers grow to size
-  const long before = g_allocations.load();
+  const long before = hullpose::test::allocations();
   int valid = 0;
   for (const auto& f : frames) valid += estimator.estimate(f, g).valid;
-  const long during = g_allocations.load() - before;
+  const long during = hullpose::test::allocations() - before;
   CHECK(during == 0);
   CHECK(valid >= 10);
 }
@@ -97,9 +58,9 @@ TEST_CASE("no allocation per frame at steady state, tracking on the hull") {
     return valid;
   };
   run();  // warm up
-  const long before = g_allocations.load();
+  const long before = hullpose::test::allocations();
   const int valid = run();
-  const long during = g_allocations.load() - before;
+  const long during = hullpose::test::allocations() - before;
   CHECK(during == 0);
   CHECK(valid >= 10);
 }

@@ -1,57 +1,11 @@
 // "No allocations in per-frame loops at steady state", measured: global operator new is
 // counted while the trigger listener and the frame assembler run frame after frame.
-#include <atomic>
 #include <catch2/catch.hpp>
-#include <cstdlib>
-#include <new>
 
 #include "hullpose/camera_node/trigger_listener.hpp"
 #include "hullpose/fusion_host/frame_assembler.hpp"
 #include "rig_fixtures.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-// Every form of the global operator new/delete is replaced, so that no allocation escapes the
-// count and every delete matches its new (AddressSanitizer checks that).
-namespace {
-void* counted_alloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-}  // namespace
-void* operator new(std::size_t n) {
-  if (void* p = counted_alloc(n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  if (void* p = counted_alloc(n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  return counted_alloc(n);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  return counted_alloc(n);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
+#include "support/alloc_count.hpp"
 
 using namespace hullpose;
 
@@ -70,7 +24,7 @@ TEST_CASE("trigger listener: no allocation per frame at steady state") {
   long during = 0;
   int64_t tagged = 0;
   for (int k = 0; k < 400; ++k) {
-    if (k == 200) during = g_allocations.load();
+    if (k == 200) during = hullpose::test::allocations();
     t.seq = k;
     t.utime = 1'700'000'000'000'000 + k * 33'333;
     if (k % 7 != 3) listener.on_announcement(t, t.utime + off + 900);  // some announcements lost
@@ -79,11 +33,11 @@ TEST_CASE("trigger listener: no allocation per frame at steady state") {
     listener.poll(t.utime + off + 1000, out);
     tagged += static_cast<int64_t>(out.size());
     // The edge source is a std::deque in tests: push outside the measured window's accounting.
-    const long before_push = g_allocations.load();
+    const long before_push = hullpose::test::allocations();
     edges.push(t.utime + off + 33'333);
-    during += g_allocations.load() - before_push;
+    during += hullpose::test::allocations() - before_push;
   }
-  CHECK(g_allocations.load() - during == 0);
+  CHECK(hullpose::test::allocations() - during == 0);
   CHECK(tagged > 390);
 }
 
@@ -103,13 +57,13 @@ TEST_CASE("frame assembler: no allocation per frame at steady state, hostile mes
   std::vector<uint8_t> garbage(100, 0xAB);
   long before = 0;
   for (size_t i = 0; i < msgs.size(); ++i) {
-    if (i == msgs.size() / 2) before = g_allocations.load();
+    if (i == msgs.size() / 2) before = hullpose::test::allocations();
     const int64_t seq = static_cast<int64_t>(i / 8);
     if (i % 8 == 5 && seq % 4 == 0) continue;  // a camera's message lost now and then
     fa.on_bytes(msgs[i], t0 + seq * p + 8000, seq * p);
     if (i % 16 == 0) fa.on_bytes(garbage, 0, seq * p);
     fa.poll(seq * p + 1000);
   }
-  CHECK(g_allocations.load() - before == 0);
+  CHECK(hullpose::test::allocations() - before == 0);
   CHECK(closed > 2300);
 }
