@@ -212,7 +212,8 @@ Carver::~Carver() = default;
 
 HULLPOSE_LOG_CATEGORY(Carve, "carve")
 
-void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report,
+bool Carver::begin_carve(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes,
+                         fusion::BitGrid& hull, CarveReport& report,
                          std::vector<int>& present) const {
   HULLPOSE_THROW_UNLESS(views.size() == rig_.cameras.size(),
                         "carve: " << views.size() << " views for the " << rig_.cameras.size()
@@ -239,15 +240,19 @@ void Carver::check_views(std::span<const cv::Mat> views, CarveReport& report,
   HULLPOSE_LOG(Carve, Debug) << report.cameras_used << " of " << views.size() << " cameras carve, "
                              << report.missing_cameras.size() << " sent nothing, "
                              << report.rejected_cameras.size() << " rejected";
+  hull.reset(grid_.dims);
+  report.voxels = 0;
+  if (!report.valid) return false;
+  HULLPOSE_THROW_UNLESS(
+      fg_boxes.empty() || fg_boxes.size() == views.size(),
+      "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
+  return true;
 }
 
 void Carver::carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull,
                                CarveReport& report) const {
   std::vector<int> present;
-  check_views(views, report, present);
-  hull.reset(grid_.dims);
-  report.voxels = 0;
-  if (!report.valid) return;
+  if (!begin_carve(views, {}, hull, report, present)) return;
   std::vector<CameraParams> cams;
   std::vector<MaskView> masks;
   for (int c : present) {
@@ -425,13 +430,7 @@ class Carver::NodeVisit {
 void Carver::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull, CarveReport& report,
                    std::span<const PixelRoi> fg_boxes) {
   Frame& f = *frame_;
-  check_views(views, report, f.present);
-  hull.reset(grid_.dims);
-  report.voxels = 0;
-  if (!report.valid) return;
-  HULLPOSE_THROW_UNLESS(
-      fg_boxes.empty() || fg_boxes.size() == views.size(),
-      "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
+  if (!begin_carve(views, fg_boxes, hull, report, f.present)) return;
   // Column counts of each silhouette over its foreground box only (outside it is background).
   for (int c : f.present) {
     const cv::Mat& m = views[static_cast<size_t>(c)];

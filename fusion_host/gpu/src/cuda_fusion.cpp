@@ -182,13 +182,7 @@ const GpuStageTimes& CudaFusion::thin_times() const {
 void CudaFusion::carve(std::span<const cv::Mat> views, fusion::BitGrid& hull,
                        carve::CarveReport& report, std::span<const PixelRoi> fg_boxes) {
   Impl& m = *impl_;
-  m.carver.check_views(views, report, m.present);
-  hull.reset(m.dims);
-  report.voxels = 0;
-  if (!report.valid) return;
-  HULLPOSE_THROW_UNLESS(
-      fg_boxes.empty() || fg_boxes.size() == views.size(),
-      "carve: " << fg_boxes.size() << " foreground boxes for " << views.size() << " views");
+  if (!m.carver.begin_carve(views, fg_boxes, hull, report, m.present)) return;
   m.e0.record();
   m.cams_host.clear();
   m.mask_views_host.clear();

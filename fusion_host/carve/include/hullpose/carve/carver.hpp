@@ -103,10 +103,12 @@ class Carver {
   void carve_brute_force(std::span<const cv::Mat> views, fusion::BitGrid& hull,
                          CarveReport& report) const;
 
-  // Which views are usable; fills the report's camera lists and validity, and `present` with the
-  // indices of the usable views. Shared with the CUDA backend. Throws on a wrong view count.
-  void check_views(std::span<const cv::Mat> views, CarveReport& report,
-                   std::vector<int>& present) const;
+  // The start of every carve, shared with the CUDA backend: which views are usable (fills the
+  // report's camera lists and validity, and `present` with the indices of the usable views) and
+  // `hull` cleared to the grid. False when too few views are usable: nothing to carve. Throws on
+  // a wrong number of views or of foreground boxes.
+  bool begin_carve(std::span<const cv::Mat> views, std::span<const PixelRoi> fg_boxes,
+                   fusion::BitGrid& hull, CarveReport& report, std::vector<int>& present) const;
   const std::vector<VoxelProjector>& projectors() const { return projectors_; }
 
  private:
