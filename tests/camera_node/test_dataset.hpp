@@ -72,17 +72,18 @@ inline std::filesystem::path write_node_config(const std::filesystem::path& dir,
                                                const std::string& lcm_url,
                                                const std::string& extra = "") {
   const std::filesystem::path p = dir / "camera.yaml";
-  std::ofstream(p)
-      << "%YAML:1.0\n"
-      << "camera_id: " << camera_id << "\n"
-      << "rig_file: rig.yaml\n"
-      << "lcm:\n  url: \"" << lcm_url << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
-      << "source:\n  type: file\n  path: cam" << camera_id << "/rgb_%06d.png\n  fps: 30\n"
-      << "  start_utime: \"1700000000000000\"\n"  // quoted: cv::FileStorage integers are 32-bit
-      << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
-      << "  background: cam" << camera_id << "/background_%06d.png\n"
-      << "post:\n  min_blob_area: 32\n"
-      << extra;
+  std::ofstream(p) << "%YAML:1.0\n"
+                   << "camera_id: " << camera_id << "\n"
+                   << "rig_file: rig.yaml\n"
+                   << "lcm:\n  url: \"" << lcm_url
+                   << "\"\n  queue_depth: 64\n  status_period_ms: 50\n"
+                   << "source:\n  type: file\n  path: cam" << camera_id
+                   << "/rgb_%06d.png\n  fps: 30\n"
+                   << "  start_utime: 1700000000000000\n"
+                   << "bgs:\n  method: " << method << "\n  learn_frames: 20\n"
+                   << "  background: cam" << camera_id << "/background_%06d.png\n"
+                   << "post:\n  min_blob_area: 32\n"
+                   << extra;
   return p;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The rig: every camera, the capture volume and the rig id. Shared by the camera nodes, the
-// fusion host, the synthetic rig and the calibration tool. Stored as YAML (cv::FileStorage),
-// format documented in docs/rig-file.md.
+// fusion host, the synthetic rig and the calibration tool. Stored as YAML (read with yaml-cpp,
+// common/yaml.hpp; written by OpenCV's YAML writer), format documented in docs/rig-file.md.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>

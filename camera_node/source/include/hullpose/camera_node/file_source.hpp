@@ -4,8 +4,7 @@
 // start_utime + f * 1e6 / fps. Triggered (expose()), the frame is the trigger's sequence number
 // (modulo the length when looping) and the trigger stage's capture time.
 //
-// Parameters: path (required), fps (30), start_utime (0: the time start() was called; quote it in
-// YAML, cv::FileStorage integers are 32-bit),
+// Parameters: path (required), fps (30), start_utime (0: the time start() was called),
 // first_index (0), loop (false), preload (false: read every frame into memory at start(), so that
 // grab() neither allocates nor touches the disk — for benchmarks and tests; without it each frame
 // is decoded from disk, which allocates).
