@@ -35,14 +35,7 @@ using namespace hullpose;
 namespace ft = hullpose::fusion::testing;
 using ft::cpu_now_ms;
 
-struct Scene {
-  Rig rig;
-  std::vector<std::vector<cv::Mat>> views;  // [frame][camera]
-  std::vector<std::vector<PixelRoi>>
-      boxes;  // foreground boxes, as the silhouette codec's header gives them
-  std::unique_ptr<carve::Carver> carver;
-  std::vector<fusion::BitGrid> hulls;  // carved and cleaned, per frame
-};
+using Scene = ft::BenchScene;
 
 // Writes a uint8 volume as .npy, C order (z, y, x).
 void write_npy(const fusion::BitGrid& v, const std::filesystem::path& path) {
@@ -76,28 +69,12 @@ Scene& scene(int resolution) {
   static std::map<int, std::unique_ptr<Scene>> scenes;
   auto& s = scenes[resolution];
   if (!s) {
-    s = std::make_unique<Scene>();
-    s->rig = cmu().rig;
-    s->views = cmu().views;
-    for (const auto& frame : s->views) {
-      auto& boxes = s->boxes.emplace_back();
-      for (const cv::Mat& v : frame) {
-        const cv::Rect r = cv::boundingRect(v);
-        boxes.push_back({r.x, r.y, r.width, r.height});
-      }
-    }
-    s->carver = std::make_unique<carve::Carver>(s->rig, carve::CarveOptions{resolution, 0, 1});
-    fusion::HullCleanup cleanup;
-    for (size_t f = 0; f < s->views.size(); ++f) {
-      carve::CarveReport report;
-      fusion::HullStats stats;
-      fusion::BitGrid& hull = s->hulls.emplace_back();
-      s->carver->carve(s->views[f], hull, report);
-      cleanup.apply(hull, stats);
-      write_npy(hull, std::filesystem::path(HULLPOSE_BINARY_DIR) / "bench" / "volumes" /
-                          ("hull_" + std::to_string(resolution) + "_f" +
-                           std::to_string(cmu().frames[f]) + ".npy"));
-    }
+    s = ft::make_bench_scene(cmu().rig, cmu().views, resolution);
+    // The skimage peer thins the same hulls (tools/bench/peers/skimage_skeletonize.py).
+    for (size_t f = 0; f < s->hulls.size(); ++f)
+      write_npy(s->hulls[f], std::filesystem::path(HULLPOSE_BINARY_DIR) / "bench" / "volumes" /
+                                 ("hull_" + std::to_string(resolution) + "_f" +
+                                  std::to_string(cmu().frames[f]) + ".npy"));
   }
   return *s;
 }
@@ -193,24 +170,35 @@ void fusion_core(benchmark::State& state, int res, int threads) {
   ft::run_fusion_core(state, core, s.views, s.boxes);
 }
 
+// The GPU's own stage timings (upload, kernels, download), as per-iteration counters.
+struct StageTimeSum {
+  gpu::GpuStageTimes sum;
+  void add(const gpu::GpuStageTimes& t) {
+    sum.upload_ms += t.upload_ms;
+    sum.kernels_ms += t.kernels_ms;
+    sum.download_ms += t.download_ms;
+  }
+  void report(benchmark::State& state) const {
+    const double n = static_cast<double>(state.iterations());
+    state.counters["upload_ms"] = sum.upload_ms / n;
+    state.counters["kernels_ms"] = sum.kernels_ms / n;
+    state.counters["download_ms"] = sum.download_ms / n;
+  }
+};
+
 void cuda_carve(benchmark::State& state, int res) {
   Scene& s = scene(res);
   gpu::CudaFusion cuda(*s.carver, {});
   fusion::BitGrid hull;
   carve::CarveReport report;
-  gpu::GpuStageTimes sum;
+  StageTimeSum sum;
   size_t f = 0;
   for (auto _ : state) {
     cuda.carve(s.views[f], hull, report, s.boxes[f]);
     f = (f + 1) % s.views.size();
-    sum.upload_ms += cuda.carve_times().upload_ms;
-    sum.kernels_ms += cuda.carve_times().kernels_ms;
-    sum.download_ms += cuda.carve_times().download_ms;
+    sum.add(cuda.carve_times());
   }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["upload_ms"] = sum.upload_ms / n;
-  state.counters["kernels_ms"] = sum.kernels_ms / n;
-  state.counters["download_ms"] = sum.download_ms / n;
+  sum.report(state);
   if (res <= 128) state.SetLabel("peer=carve/" + std::to_string(res));
 }
 
@@ -219,20 +207,15 @@ void cuda_ck3(benchmark::State& state, int res) {
   gpu::CudaFusion cuda(*s.carver, {});
   fusion::BitGrid v;
   thin::ThinStats st;
-  gpu::GpuStageTimes sum;
+  StageTimeSum sum;
   size_t f = 0;
   for (auto _ : state) {
     v = s.hulls[f];
     st = cuda.thin(v);
     f = (f + 1) % s.hulls.size();
-    sum.upload_ms += cuda.thin_times().upload_ms;
-    sum.kernels_ms += cuda.thin_times().kernels_ms;
-    sum.download_ms += cuda.thin_times().download_ms;
+    sum.add(cuda.thin_times());
   }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["upload_ms"] = sum.upload_ms / n;
-  state.counters["kernels_ms"] = sum.kernels_ms / n;
-  state.counters["download_ms"] = sum.download_ms / n;
+  sum.report(state);
   state.counters["thin_iterations"] = st.iterations;
   if (res <= 128) state.SetLabel("peer=ck3/" + std::to_string(res));
 }

@@ -27,41 +27,13 @@ using namespace hullpose;
 namespace ft = hullpose::fusion::testing;
 using ft::cpu_now_ms;
 
-struct Scene {
-  Rig rig;
-  std::vector<std::vector<cv::Mat>> views;   // [frame][camera]
-  std::vector<std::vector<PixelRoi>> boxes;  // foreground boxes
-  std::unique_ptr<carve::Carver> carver;
-  std::vector<fusion::BitGrid> hulls;  // carved and cleaned, per frame
-};
-
-std::unique_ptr<Scene> make_scene(Rig rig, std::vector<std::vector<cv::Mat>> views,
-                                  int resolution) {
-  auto s = std::make_unique<Scene>();
-  s->rig = std::move(rig);
-  s->views = std::move(views);
-  for (const auto& frame : s->views) {
-    auto& boxes = s->boxes.emplace_back();
-    for (const cv::Mat& v : frame) {
-      const cv::Rect r = cv::boundingRect(v);
-      boxes.push_back({r.x, r.y, r.width, r.height});
-    }
-  }
-  s->carver = std::make_unique<carve::Carver>(s->rig, carve::CarveOptions{resolution, 0, 1});
-  fusion::HullCleanup cleanup;
-  for (const auto& frame : s->views) {
-    carve::CarveReport report;
-    fusion::HullStats stats;
-    s->carver->carve(frame, s->hulls.emplace_back(), report);
-    cleanup.apply(s->hulls.back(), stats);
-  }
-  return s;
-}
+using Scene = ft::BenchScene;
+using ft::make_bench_scene;
 
 Scene& crane() {
   static const std::unique_ptr<Scene> s = [] {
     ft::CraneFrames c = ft::load_crane(8, ft::CraneVolume::kThesis);
-    return make_scene(std::move(c.rig), std::move(c.views), 128);
+    return make_bench_scene(std::move(c.rig), std::move(c.views), 128);
   }();
   return *s;
 }
@@ -69,7 +41,7 @@ Scene& crane() {
 Scene& crane_import() {
   static const std::unique_ptr<Scene> s = [] {
     ft::CraneFrames c = ft::load_crane(8, ft::CraneVolume::kImport);
-    return make_scene(std::move(c.rig), std::move(c.views), 128);
+    return make_bench_scene(std::move(c.rig), std::move(c.views), 128);
   }();
   return *s;
 }
@@ -77,7 +49,7 @@ Scene& crane_import() {
 Scene& rig20() {
   static const std::unique_ptr<Scene> s = [] {
     ft::CmuFrames c = ft::render_cmu_55_01(4, "ring:cameras=19,width=1024,rows=768");
-    return make_scene(std::move(c.rig), std::move(c.views), 128);
+    return make_bench_scene(std::move(c.rig), std::move(c.views), 128);
   }();
   return *s;
 }
