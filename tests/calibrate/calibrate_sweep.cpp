@@ -3,8 +3,8 @@
 // 0.3 px corner noise), split into the world frame's error (the rigid motion that best maps the
 // calibrated rig onto the truth: its angle, the tilt of its z axis, its shift of the origin and of
 // the cameras) and the cameras' relative geometry; a last line pools all seeds.
-//   calibrate_sweep MODE [--close-ups N] [--shared N] [--floors N] [--tilt MIN MAX]
-//                   [--plan-seed S] SEED...
+//   calibrate_sweep --mode MODE [--verbose] [--close-ups N] [--shared N] [--floors N]
+//                   [--min-tilt DEG] [--max-tilt DEG] [--plan-seed S] --seeds S1,S2,...
 // MODE: corners   projected corners with Gaussian noise (about a second a seed)
 //       rendered  rendered images, detected with OpenCV (half a minute a seed; the detections are
 //                 cached in ./sweep_cache/ by plan and seed: delete it after changing the renderer
@@ -12,7 +12,7 @@
 //       ideal     the views detected in the rendered images, with Gaussian corners instead of the
 //                 detected ones (the detector's bias apart from which views it finds)
 //       missed    detected / shown images by how obliquely the camera sees the board
-// A "-v" suffix (corners-v, rendered-v) adds a line per camera. The plan defaults to the
+// --verbose adds a line per camera. The plan defaults to the
 // recommended capture (CapturePlan) with plan seed 11, as test_calibrate_synthetic.
 #include <algorithm>
 #include <array>
@@ -25,6 +25,8 @@
 
 #include "hullpose/calibrate/rig_calibrator.hpp"
 #include "hullpose/common/check.hpp"
+#include "hullpose/common/cli.hpp"
+#include "hullpose/common/tool.hpp"
 #include "synthetic_capture.hpp"
 
 using namespace hullpose;
@@ -80,37 +82,37 @@ std::vector<Detection> corner_detections(const Rig& truth, const BoardSpec& boar
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr,
-                 "usage: calibrate_sweep corners|rendered|ideal|missed[-v] [options] SEED...\n");
-    return 2;
-  }
-  std::string mode = argv[1];
-  const bool verbose = mode.size() > 2 && mode.substr(mode.size() - 2) == "-v";
-  if (verbose) mode.resize(mode.size() - 2);
+int run(int argc, const char* const* argv) {
   const Rig truth = make_ring_rig(7);
   const BoardSpec board{13, 8, 80};
   CapturePlan plan_options;
-  unsigned plan_seed = 11;
+  std::string mode;
+  bool verbose = false;
+  long long plan_seed = 11;
   std::vector<unsigned> seeds;
-  for (int a = 2; a < argc; ++a) {
-    const std::string arg = argv[a];
-    if (arg == "--close-ups")
-      plan_options.close_ups = std::stoi(argv[++a]);
-    else if (arg == "--shared")
-      plan_options.shared = std::stoi(argv[++a]);
-    else if (arg == "--floors")
-      plan_options.floors = std::stoi(argv[++a]);
-    else if (arg == "--tilt") {
-      plan_options.min_tilt_deg = std::stod(argv[++a]);
-      plan_options.max_tilt_deg = std::stod(argv[++a]);
-    } else if (arg == "--plan-seed")
-      plan_seed = static_cast<unsigned>(std::stoul(argv[++a]));
-    else
-      seeds.push_back(static_cast<unsigned>(std::stoul(arg)));
-  }
-  const auto plan = make_capture_plan(truth, board, plan_options, plan_seed);
+  cli::CommandLine cl(
+      "usage: calibrate_sweep --mode corners|rendered|ideal|missed [--verbose] [--close-ups N]\n"
+      "         [--shared N] [--floors N] [--min-tilt DEG] [--max-tilt DEG] [--plan-seed S]\n"
+      "         --seeds S1,S2,...\n");
+  cl.option("--mode", mode)
+      .flag("--verbose", verbose)
+      .option("--close-ups", plan_options.close_ups)
+      .option("--shared", plan_options.shared)
+      .option("--floors", plan_options.floors)
+      .option("--min-tilt", plan_options.min_tilt_deg)
+      .option("--max-tilt", plan_options.max_tilt_deg)
+      .option("--plan-seed", plan_seed)
+      .option("--seeds", [&seeds](const std::string& list) {
+        std::stringstream items(list);
+        for (std::string item; std::getline(items, item, ',');)
+          seeds.push_back(static_cast<unsigned>(cli::parse_integer("--seeds", item)));
+      });
+  if (!cl.parse(argc, argv)) return 0;
+  HULLPOSE_THROW_UNLESS(
+      mode == "corners" || mode == "rendered" || mode == "ideal" || mode == "missed",
+      "--mode must be corners, rendered, ideal or missed, got '" << mode << "'");
+  HULLPOSE_THROW_UNLESS(!seeds.empty(), "--seeds: at least one noise seed");
+  const auto plan = make_capture_plan(truth, board, plan_options, static_cast<unsigned>(plan_seed));
   std::ostringstream key;
   key << "plan" << plan.size() << "_" << plan_options.close_ups << "_" << plan_options.shared << "_"
       << plan_options.floors << "_" << plan_options.min_tilt_deg << "_" << plan_options.max_tilt_deg
@@ -221,4 +223,8 @@ int main(int argc, char** argv) {
         std::sqrt(pooled.rel_centre2 / n), std::sqrt(pooled.rel_angle2 / n), pooled.worst_ratio);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return run_tool("calibrate_sweep", argc, argv, run);
 }
