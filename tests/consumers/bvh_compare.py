@@ -3,8 +3,8 @@
 
 usage: bvh_compare.py FK.csv POSES.csv GAPS.json [--exact] [--held MIN]
 POSES.csv: an estimate or ground-truth file (docs/conventions.md). Frames the exporter marked
-"measured" are compared. Our BVH holds the subject's (median) bone lengths for the whole take,
-so a joint can differ from a frame whose bones are longer or shorter by at most the sum of those
+"measured" are compared. Our BVH holds one set of bone lengths for the whole take (the held body
+model's, else the median), so a joint can differ from a frame whose bones are longer or shorter by at most the sum of those
 length differences along its chain from the pelvis; with directions right it differs by no
 more. --exact: the poses have the subject's lengths (ground truth), every joint within 1 mm.
 Otherwise: every joint within 1 mm plus its chain's length difference. --held MIN: frames whose
@@ -57,8 +57,12 @@ def main():
         return [10 * x, -10 * z, 10 * y]
 
     valid = [r for r, s in zip(poses, states) if s == "measured"]
-    lengths = {b: sorted(math.dist(joint(r, b[0]), joint(r, b[1])) for r in valid) for b in BONES}
-    subject = {b: v[len(v) // 2] for b, v in lengths.items()}  # the exporter's median (upper median)
+    # The exporter's lengths (skeleton_io::subject_bone_lengths): the upper median over the frames
+    # of the newest held body model when there is one, else over every measured frame.
+    held_model = max((int(r.get("model", 0) or 0) for r in valid), default=0)
+    basis = [r for r in valid if int(r.get("model", 0) or 0) == held_model] if held_model > 0 else valid
+    lengths = {b: sorted(math.dist(joint(r, b[0]), joint(r, b[1])) for r in basis) for b in BONES}
+    subject = {b: v[len(v) // 2] for b, v in lengths.items()}
     path = chains()
     errors, held_errors, excess, worst = [], [], -1e9, None
     for f, (a, p, s) in enumerate(zip(fk, poses, states)):
