@@ -126,11 +126,12 @@ TEST_CASE(
     INFO("trigger " << seq << ", clock offset " << offset_ms << " ms");
     REQUIRE(decode_silhouette(m.payload, {}, decoded) == CodecError::kNone);
     CHECK(cv::countNonZero(decoded != frame_mask(static_cast<int>(seq))) == 0);
-    // Times are on the master's clock (not 2 s off): exposure at the edge, give or take
-    // the master's own scheduling between driving the line and reading its clock.
-    CHECK(std::abs(m.capture_utime - m.utime) < 20'000);
+    // Times are on the master's clock, not the board's: a stamp left on the board's clock would
+    // be the 2 s offset away. The bounds are half of that, so the scheduling of this loaded
+    // machine (how late a thread reads the wire) is not what is asserted.
+    CHECK(std::abs(m.capture_utime - m.utime) < 1'000'000);
     CHECK(m.node_done_utime >= m.capture_utime);
-    CHECK(m.node_done_utime - m.utime < 2'000'000);
+    CHECK(m.node_done_utime - m.utime < 1'000'000);
   }
   CHECK(node.counters().get("no_trigger") == 0);
   fs::remove_all(dir);
