@@ -71,9 +71,11 @@ void HullPublisher::offer(const BitGrid& hull, const VoxelGridSpec& grid, int64_
   if (last_offered_utime_ != INT64_MIN && utime - last_offered_utime_ < period_us_) return;
   last_offered_utime_ = utime;
   {
-    // The worker holds the lock only to swap buffers: try_lock failing means it is doing so now.
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (!lock.owns_lock() || pending_ || busy_) {
+    // The worker holds the lock only to swap buffers and set its flags, so this waits for no
+    // more than that. (try_lock would not wait, but may fail spuriously, and did under
+    // qemu-aarch64: a due hull dropped as busy with the worker idle.)
+    std::unique_lock lock(mutex_);
+    if (pending_ || busy_) {
       counters_.add("hull_dropped_busy");
       return;
     }

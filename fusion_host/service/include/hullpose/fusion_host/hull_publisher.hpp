@@ -44,7 +44,8 @@ class HullPublisher {
   HullPublisher& operator=(const HullPublisher&) = delete;
 
   // Frame loop: hands the hull of trigger instant `utime` to the worker if one is due (the first,
-  // then one per 1/rate of trigger time) and the worker is idle; never waits for it.
+  // then one per 1/rate of trigger time) and the worker is idle; never waits for the worker's
+  // coarsening and publishing.
   void offer(const BitGrid& hull, const VoxelGridSpec& grid, int64_t utime, int64_t trigger_seq);
   // Returns once the worker has published what it was handed (tests; before shutdown).
   void drain();
