@@ -72,8 +72,9 @@ void HullPublisher::offer(const BitGrid& hull, const VoxelGridSpec& grid, int64_
   last_offered_utime_ = utime;
   {
     // The worker holds the lock only to swap buffers and set its flags, so this waits for no
-    // more than that. (try_lock would not wait, but may fail spuriously, and did under
-    // qemu-aarch64: a due hull dropped as busy with the worker idle.)
+    // more than that. (try_lock would not wait, but it fails whenever the worker holds the lock
+    // for a moment, a spurious wakeup with nothing to do included, and may fail spuriously
+    // besides: under qemu-aarch64 a due hull was dropped as busy with the worker idle.)
     std::unique_lock lock(mutex_);
     if (pending_ || busy_) {
       counters_.add("hull_dropped_busy");
