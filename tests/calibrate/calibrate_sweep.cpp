@@ -12,11 +12,12 @@
 //       ideal     the views detected in the rendered images, with Gaussian corners instead of the
 //                 detected ones (the detector's bias apart from which views it finds)
 //       missed    detected / shown images by how obliquely the camera sees the board
-// --verbose adds a line per camera. The plan defaults to the
-// recommended capture (CapturePlan) with plan seed 11, as test_calibrate_synthetic.
+// --verbose adds a line per camera. The plan defaults to the recommended capture (CapturePlan)
+// with plan seed 11, as test_calibrate_synthetic.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -104,14 +105,20 @@ int run(int argc, const char* const* argv) {
       .option("--plan-seed", plan_seed)
       .option("--seeds", [&seeds](const std::string& list) {
         std::stringstream items(list);
-        for (std::string item; std::getline(items, item, ',');)
-          seeds.push_back(static_cast<unsigned>(cli::parse_integer("--seeds", item)));
+        for (std::string item; std::getline(items, item, ',');) {
+          const long long seed = cli::parse_integer("--seeds", item);
+          HULLPOSE_THROW_UNLESS(seed >= 0 && seed <= UINT32_MAX,
+                                "--seeds: " << seed << " is not a 32-bit unsigned seed");
+          seeds.push_back(static_cast<unsigned>(seed));
+        }
       });
   if (!cl.parse(argc, argv)) return 0;
   HULLPOSE_THROW_UNLESS(
       mode == "corners" || mode == "rendered" || mode == "ideal" || mode == "missed",
       "--mode must be corners, rendered, ideal or missed, got '" << mode << "'");
   HULLPOSE_THROW_UNLESS(!seeds.empty(), "--seeds: at least one noise seed");
+  HULLPOSE_THROW_UNLESS(plan_seed >= 0 && plan_seed <= UINT32_MAX,
+                        "--plan-seed: " << plan_seed << " is not a 32-bit unsigned seed");
   const auto plan = make_capture_plan(truth, board, plan_options, static_cast<unsigned>(plan_seed));
   std::ostringstream key;
   key << "plan" << plan.size() << "_" << plan_options.close_ups << "_" << plan_options.shared << "_"
