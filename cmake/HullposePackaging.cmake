@@ -161,12 +161,12 @@ if(CMAKE_CROSSCOMPILING)
   set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS OFF)
   set(_cxx "libc6 (>= 2.35), libgcc-s1 (>= 3.0), libstdc++6 (>= 12)")
   set(_cv "libopencv-core406 (>= 4.6.0+dfsg), libopencv-imgproc406 (>= 4.6.0+dfsg), libopencv-imgcodecs406 (>= 4.6.0+dfsg)")
-  set(_bus "liblcm1, libsodium23 (>= 1.0.12), libyaml-cpp0.7 (>= 0.7.0)")  # hullpose_common
+  set(_bus "liblcm1, libsodium23 (>= 1.0.12), libssl3 (>= 3.0.0), libyaml-cpp0.7 (>= 0.7.0)")  # hullpose_common
   string(APPEND CPACK_DEBIAN_COMMON_PACKAGE_DEPENDS ", ${_cxx}, libcamera0.0.3 (>= 0.0.3), libgpiod2 (>= 1.1), libopencv-core406 (>= 4.6.0+dfsg), "
-    "libsodium23 (>= 1.0.12), libyaml-cpp0.7 (>= 0.7.0)")
+    "libsodium23 (>= 1.0.12), libssl3 (>= 3.0.0), libyaml-cpp0.7 (>= 0.7.0)")
   string(APPEND CPACK_DEBIAN_CAMERA_NODE_PACKAGE_DEPENDS ", ${_cxx}, ${_cv}, ${_bus}, libcamera0.0.3 (>= 0.0.3), libgpiod2 (>= 1.1), "
     "libopencv-calib3d406 (>= 4.6.0+dfsg), libopencv-video406 (>= 4.6.0+dfsg), libopencv-videoio406 (>= 4.6.0+dfsg)")
-  string(APPEND CPACK_DEBIAN_TRIGGER_MASTER_PACKAGE_DEPENDS ", ${_cxx}, libgpiod2 (>= 1.1), liblcm1, libsodium23 (>= 1.0.12)")
+  string(APPEND CPACK_DEBIAN_TRIGGER_MASTER_PACKAGE_DEPENDS ", ${_cxx}, libgpiod2 (>= 1.1), liblcm1, libsodium23 (>= 1.0.12), libssl3 (>= 3.0.0)")
   string(APPEND CPACK_DEBIAN_FUSION_HOST_PACKAGE_DEPENDS ", ${_cxx}, ${_cv}, ${_bus}, libgomp1 (>= 6)")
   string(APPEND CPACK_DEBIAN_TOOLS_PACKAGE_DEPENDS ", ${_cxx}, ${_cv}, ${_bus}, libcamera0.0.3 (>= 0.0.3), libgpiod2 (>= 1.1), "
     "libopencv-calib3d406 (>= 4.6.0+dfsg), libopencv-video406 (>= 4.6.0+dfsg), libopencv-videoio406 (>= 4.6.0+dfsg)")

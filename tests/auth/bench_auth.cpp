@@ -8,8 +8,9 @@
 // codec into the silhouette_t it publishes) and one SKELETON. Two rigs: the real crane capture
 // (8 cameras, 1600x1200, ../shared/data/real/vlasic-crane) and the synthetic thesis rig (8
 // cameras, 800x600, CMU 55_01). Percentiles over all messages and over the silhouettes alone
-// (time_stream says which). auth/tag/stream/*: one side's tag over the crane stream, ours
-// against AES-256-GCM as a MAC, the construction considered instead.
+// (time_stream says which). auth/tag/*: one side's tag, ours (OpenSSL's Poly1305) against the
+// same tag computed by libsodium (what common/auth used before) and against AES-256-GCM as a
+// MAC (the construction considered instead), over the crane stream and a 16 KB message.
 #include <benchmark/benchmark.h>
 #include <sodium.h>
 
@@ -31,6 +32,7 @@
 #include "hullpose/auth/message_auth.hpp"
 #include "hullpose/common/joints.hpp"
 #include "hullpose/common/silhouette_codec.hpp"
+#include "reference_tag.hpp"
 
 namespace {
 
@@ -289,13 +291,24 @@ void sign_verify_stream(benchmark::State& state, const std::vector<Message>& (*s
   });
 }
 
-// The construction considered instead (issue 19): AES-256-GCM with an empty plaintext and the
-// message as additional data (GMAC), key schedule precomputed as a receiver would per sender,
-// against the sign side of ours (XChaCha20 one-time key + Poly1305). One side each.
+// One side's tag: ours (sign), the same tag by libsodium's Poly1305 (common/auth before issue
+// 19's measurement; tests/auth/reference_tag.hpp), and the construction considered instead:
+// AES-256-GCM with an empty plaintext and the message as additional data (GMAC), key schedule
+// precomputed as a receiver would per sender.
 void tag_stream_ours(benchmark::State& state, const std::vector<Message>& (*stream)()) {
   hullpose::auth::Signer signer(bench_key());
   time_stream(state, stream(), [&](const Message& m, uint8_t* buf) {
     signer.sign(m.channel, buf, m.bytes.size(), 1, buf + m.bytes.size());
+    return true;
+  });
+}
+
+void tag_stream_libsodium(benchmark::State& state, const std::vector<Message>& (*stream)()) {
+  const hullpose::auth::RigKey key = bench_key();
+  time_stream(state, stream(), [&](const Message& m, uint8_t* buf) {
+    const auto tag = hullpose::auth::testing::reference_tag(key, m.channel, buf, m.bytes.size(),
+                                                            buf + m.bytes.size());
+    benchmark::DoNotOptimize(tag);
     return true;
   });
 }
@@ -328,6 +341,10 @@ const std::vector<Message>& thesis8() {
   static const std::vector<Message> s = thesis8_stream();
   return s;
 }
+const std::vector<Message>& silhouette_16k() {
+  static const std::vector<Message> s = {{"SILHOUETTE", encoded_silhouette(16000)}};
+  return s;
+}
 
 BENCHMARK_CAPTURE(sign_verify_stream, crane, &crane)
     ->Name("auth/sign_verify/stream/crane_8x1600x1200")
@@ -341,9 +358,19 @@ BENCHMARK_CAPTURE(tag_stream_ours, crane, &crane)
     ->Name("auth/tag/stream/crane_8x1600x1200/xchacha20_poly1305")
     ->MinTime(0.3)
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(tag_stream_libsodium, crane, &crane)
+    ->Name("auth/tag/stream/crane_8x1600x1200/xchacha20_poly1305_libsodium")
+    ->MinTime(0.3)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(tag_stream_aes256gcm, crane, &crane)
     ->Name("auth/tag/stream/crane_8x1600x1200/aes256gcm_gmac")
     ->MinTime(0.3)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(tag_stream_ours, silhouette_16k, &silhouette_16k)
+    ->Name("auth/tag/silhouette_16k/xchacha20_poly1305")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(tag_stream_libsodium, silhouette_16k, &silhouette_16k)
+    ->Name("auth/tag/silhouette_16k/xchacha20_poly1305_libsodium")
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

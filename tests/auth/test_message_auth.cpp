@@ -4,9 +4,11 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hullpose/auth/message_auth.hpp"
+#include "reference_tag.hpp"
 
 using namespace hullpose::auth;
 
@@ -60,6 +62,27 @@ TEST_CASE("a signed message verifies and the trailer is stripped") {
     CHECK(r.message_size == n);
     CHECK(strip_trailer(s.data(), s.size()) == n);
     CHECK(std::equal(m.begin(), m.end(), s.begin()));  // memcmp would take null for n = 0
+  }
+}
+
+// The tag is computed with OpenSSL's Poly1305 (faster than libsodium's); it must be the bytes of
+// the construction docs/messages.md states, computed with libsodium alone, on every thread.
+TEST_CASE("the tag is the documented XChaCha20 + Poly1305 construction, on any thread") {
+  REQUIRE(sodium_init() >= 0);
+  const RigKey key = key_from(9);
+  Signer signer(key, sender_from(4));
+  auto matches = [&](const std::string& channel, const std::vector<uint8_t>& s, size_t n) {
+    const auto expected = testing::reference_tag(key, channel, s.data(), n, s.data() + n);
+    return std::equal(expected.begin(), expected.end(),
+                      s.begin() + static_cast<std::ptrdiff_t>(n) + 36);
+  };
+  for (const size_t n : {0, 1, 15, 16, 17, 3000, 16000, 70000}) {
+    const auto m = message(n, static_cast<uint8_t>(n));
+    const auto s = signed_copy(signer, "SILHOUETTE", m);
+    CHECK(matches("SILHOUETTE", s, n));
+    std::vector<uint8_t> other;
+    std::thread([&] { other = signed_copy(signer, "SKELETON", m); }).join();
+    CHECK(matches("SKELETON", other, n));
   }
 }
 

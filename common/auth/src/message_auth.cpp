@@ -1,9 +1,11 @@
 #include "hullpose/auth/message_auth.hpp"
 
+#include <openssl/evp.h>
 #include <sodium.h>
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 
 #include "hullpose/common/check.hpp"
 
@@ -32,6 +34,25 @@ uint64_t get_u64(const uint8_t* p) {
   return v;
 }
 
+// Poly1305 is computed by OpenSSL, the rest of the construction by libsodium: Debian 12's
+// libsodium (1.0.18) has only portable/SSE2 Poly1305 code, OpenSSL 3.0 has AVX2/AVX-512
+// (x86-64) and NEON (arm64) code. Same bytes (test_auth checks them against libsodium's
+// crypto_onetimeauth), about 3x faster on a 16 KB message (docs/perf-log.md, issue 19). The
+// context is per thread because signers and verifiers are called from several threads; made
+// once per thread, so signing allocates nothing per message.
+struct MacContextFree {
+  void operator()(EVP_MAC_CTX* c) const { EVP_MAC_CTX_free(c); }
+};
+
+EVP_MAC_CTX* poly1305_context() {
+  static EVP_MAC* const mac = EVP_MAC_fetch(nullptr, "POLY1305", nullptr);
+  HULLPOSE_THROW_UNLESS(mac != nullptr,
+                        "auth: OpenSSL has no POLY1305 MAC (a provider configuration without it?)");
+  thread_local const std::unique_ptr<EVP_MAC_CTX, MacContextFree> ctx(EVP_MAC_CTX_new(mac));
+  HULLPOSE_THROW_UNLESS(ctx != nullptr, "auth: cannot create an OpenSSL POLY1305 context");
+  return ctx.get();
+}
+
 // Poly1305 tag of one message under the one-time key derived from the rig key and the nonce
 // sender|counter (trailer bytes 4..28).
 void compute_tag(const RigKey& key, std::string_view channel, const uint8_t* message, size_t size,
@@ -39,16 +60,19 @@ void compute_tag(const RigKey& key, std::string_view channel, const uint8_t* mes
   uint8_t one_time[crypto_onetimeauth_KEYBYTES];
   static_assert(crypto_stream_xchacha20_NONCEBYTES == 24);
   crypto_stream_xchacha20(one_time, sizeof one_time, header + 4, key.bytes().data());
-  crypto_onetimeauth_state s;
-  crypto_onetimeauth_init(&s, one_time);
+  EVP_MAC_CTX* const ctx = poly1305_context();
   uint8_t len[4];
   put_u32(len, static_cast<uint32_t>(channel.size()));
-  crypto_onetimeauth_update(&s, len, sizeof len);
-  crypto_onetimeauth_update(&s, reinterpret_cast<const uint8_t*>(channel.data()), channel.size());
-  crypto_onetimeauth_update(&s, message, size);
-  crypto_onetimeauth_update(&s, header, kSignedHeader);
-  crypto_onetimeauth_final(&s, tag);
+  size_t tag_size = 0;
+  const bool ok =
+      EVP_MAC_init(ctx, one_time, sizeof one_time, nullptr) == 1 &&
+      EVP_MAC_update(ctx, len, sizeof len) == 1 &&
+      EVP_MAC_update(ctx, reinterpret_cast<const uint8_t*>(channel.data()), channel.size()) == 1 &&
+      EVP_MAC_update(ctx, message, size) == 1 && EVP_MAC_update(ctx, header, kSignedHeader) == 1 &&
+      EVP_MAC_final(ctx, tag, &tag_size, crypto_onetimeauth_BYTES) == 1 &&
+      tag_size == crypto_onetimeauth_BYTES;
   sodium_memzero(one_time, sizeof one_time);
+  HULLPOSE_THROW_UNLESS(ok, "auth: OpenSSL POLY1305 failed");
 }
 
 }  // namespace
@@ -72,10 +96,13 @@ std::string_view counter_name(Verdict v) {
 }
 
 Signer::Signer(const RigKey& key) : key_(key) {
+  poly1305_context();  // a missing MAC is an error at start-up, not at the first message
   randombytes_buf(sender_.data(), sender_.size());
 }
 
-Signer::Signer(const RigKey& key, const SenderId& sender) : key_(key), sender_(sender) {}
+Signer::Signer(const RigKey& key, const SenderId& sender) : key_(key), sender_(sender) {
+  poly1305_context();
+}
 
 void Signer::sign(std::string_view channel, const void* message, size_t size, int64_t now_utime,
                   uint8_t* trailer) {
@@ -89,6 +116,7 @@ void Signer::sign(std::string_view channel, const void* message, size_t size, in
 }
 
 Verifier::Verifier(const RigKey& key, VerifierConfig config) : key_(key), config_(config) {
+  poly1305_context();
   HULLPOSE_THROW_UNLESS(config_.max_senders > 0, "auth: max_senders must be positive");
   HULLPOSE_THROW_UNLESS(config_.max_skew_us >= 0, "auth: max_skew must not be negative");
   windows_.reserve(config_.max_senders);

@@ -16,10 +16,13 @@
 // XChaCha20-Poly1305): a fresh one-time key per message, so the tag is a MAC under the rig key.
 // Chosen over crypto_auth (HMAC-SHA-512-256) and keyed BLAKE2b because it is 3-7x faster on
 // silhouette-sized messages (3 KB: Poly1305 ~1.3 us, BLAKE2b ~4 us, HMAC ~9 us on this
-// machine), measured by bench_auth, and the budget is 5 us per message at p99. AES-256-GCM as a
-// MAC (GMAC: the message as additional data) is ~2x faster again on x86 with AES-NI
-// (bench_auth auth/tag/stream/*), but Debian's libsodium has it only there: not on the ARM
-// camera boards, which sign the largest messages, so a rig could not use it throughout.
+// machine), measured by bench_auth, and the budget is 5 us per message at p99. The Poly1305 is
+// OpenSSL's: the same tag as libsodium's, about 2x faster from a few KB up (AVX2/AVX-512, NEON),
+// which keeps silhouettes of larger sensors inside the budget (bench_auth auth/tag/*).
+// AES-256-GCM as a MAC (GMAC: the message as additional data) is ~2x faster again on x86 with
+// AES-NI (bench_auth auth/tag/stream/*), but not on camera boards without ARM's crypto
+// extensions (Raspberry Pi 4), which sign the largest messages, so a rig could not use it
+// throughout.
 //
 // The receiver (Verifier) drops, and names the reason of, a message that has no trailer, one
 // signed with another key (another rig), one whose tag does not verify (forged or corrupted),
