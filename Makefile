@@ -33,10 +33,11 @@ build: deps $(BUILD)/CMakeCache.txt
 test: build
 	cd $(BUILD) && ctest $(CTEST_FLAGS) -j $(JOBS) -LE gpu
 
-# The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
+# The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too);
+# only their executables are built (target unit_tests).
 test-asan: deps
 	$(CMAKE) -S . -B $(BUILD_ASAN) -DCMAKE_BUILD_TYPE=Debug -DHULLPOSE_SANITIZE=address,undefined $(CMAKE_FLAGS)
-	$(CMAKE) --build $(BUILD_ASAN) -j $(JOBS)
+	$(CMAKE) --build $(BUILD_ASAN) -j $(JOBS) --target unit_tests
 	cd $(BUILD_ASAN) && ctest $(CTEST_FLAGS) -j $(JOBS) -L unit
 
 test-gpu: build

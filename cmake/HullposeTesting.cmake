@@ -1,8 +1,12 @@
 # hullpose_add_test(<name> SOURCES <src>... [LIBS <lib>...] [LABELS <label>...] [WORKING_DIRECTORY <dir>])
 #   A Catch2 executable registered with CTest. Every test carries the label "unit" unless
 #   LABELS says otherwise ("integration", "system", "gpu", ...); CI's sanitizer pass runs "unit".
+#   The target `unit_tests` builds the "unit" tests' executables and nothing else: the sanitizer
+#   build (make test-asan) compiles only what it runs. A "unit" test added by plain add_test names
+#   the executable it runs with add_dependencies(unit_tests <target>).
 # hullpose_add_bench(<name> SOURCES <src>... [LIBS <lib>...])
 #   A Google Benchmark executable whose results tools/bench/run-bench.sh prints as JSON lines.
+add_custom_target(unit_tests)
 function(hullpose_add_test name)
   cmake_parse_arguments(T "" "WORKING_DIRECTORY" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
@@ -19,6 +23,9 @@ function(hullpose_add_test name)
   endif()
   add_test(NAME ${name} COMMAND ${name} WORKING_DIRECTORY ${T_WORKING_DIRECTORY})
   set_tests_properties(${name} PROPERTIES LABELS "${T_LABELS}")
+  if("unit" IN_LIST T_LABELS)
+    add_dependencies(unit_tests ${name})
+  endif()
 endfunction()
 
 set_property(GLOBAL PROPERTY HULLPOSE_BENCHES "")

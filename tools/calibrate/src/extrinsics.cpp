@@ -126,8 +126,15 @@ CaptureVolume common_view_volume(const std::vector<CameraModel>& cameras, int mi
     for (int j = 0; j < n.y(); ++j)
       for (int i = 0; i < n.x(); ++i) {
         const Eigen::Vector3d p = lo + step_mm * Eigen::Vector3d(i, j, k);
+        // A point inside the box found so far cannot widen it, and a point already missed by
+        // more cameras than may miss it cannot count: skipping both changes no result (the
+        // crane's and Utrecht's imported rigs are the same bytes) and makes the crane's import
+        // 4x faster in the sanitizer build, where it was most of CI's test time (90 -> 21 s).
+        if ((p.array() >= vmin.array()).all() && (p.array() <= vmax.array()).all()) continue;
         int seen = 0;
-        for (size_t ci = 0; ci < cameras.size(); ++ci) {
+        for (size_t ci = 0;
+             ci < cameras.size() && seen + static_cast<int>(cameras.size() - ci) >= min_cameras;
+             ++ci) {
           const auto& c = cameras[ci];
           const Eigen::Vector3d pc = c.R * p + c.t;
           if (pc.z() <= 0) continue;
