@@ -1,9 +1,10 @@
 // Fast pieces of the calibration tool (also run under the sanitizers): Jacobians, the folder
-// provider, the command line, refusing a symmetric board.
+// provider, the command line, refusing a symmetric board, hand-marked corners.
 #include <Eigen/Geometry>
 #include <array>
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
@@ -128,10 +129,88 @@ TEST_CASE("floor views must be named, once each") {
   o.floor_views = {"floor", "floor2", "floor"};
   CHECK_THROWS_WITH(RigCalibrator(o), Contains("floor view 'floor' is named twice"));
 }
-TEST_CASE("a symmetric board is refused") {
+TEST_CASE("a symmetric board is refused unless its corners are marked") {
   CalibrationOptions o;
   o.board = {8, 6, 120};
   CHECK_THROWS_WITH(RigCalibrator(o), Contains("symmetric under a half turn"));
+  o.board.corners_marked = true;
+  CHECK_NOTHROW(RigCalibrator(o));
+  // Found or not, a detector's order of a symmetric board would be a guess.
+  CHECK(detect_board(cv::Mat(486, 644, CV_8UC1, cv::Scalar(128)), o.board).empty());
+}
+
+// The Utrecht case in miniature: a symmetric board the detector does not search, four corners
+// marked a pixel or two off, every corner refined to the rendered truth.
+TEST_CASE("four marked corners give every corner of the board; marks that outline nothing fail") {
+  const Rig rig = make_ring_rig(2);
+  BoardSpec board{8, 6, 120};
+  board.corners_marked = true;
+  const BoardRenderer renderer(rig, board, 0.0, 2.0);
+  std::mt19937 rng(5);
+  cv::Mat image;
+  std::vector<cv::Point2f> truth;
+  for (const PlannedView& v : make_capture_plan(rig, board, {}, 3)) {
+    image = renderer.render(0, v.world_from_board, rng);
+    if (image.empty()) continue;
+    truth = project_board(rig.cameras[0], board, v.world_from_board, 0.0, rng);
+    break;
+  }
+  REQUIRE(!image.empty());
+  REQUIRE(truth.size() == 48u);
+  const MarkedCorners marks = {
+      truth[0] + cv::Point2f(1.5f, -1.0f), truth[7] + cv::Point2f(-1.0f, 1.5f),
+      truth[47] + cv::Point2f(1.0f, 1.0f), truth[40] + cv::Point2f(-1.5f, -1.5f)};
+  const std::vector<cv::Point2f> corners = corners_from_marks(image, board, marks);
+  REQUIRE(corners.size() == truth.size());
+  double worst = 0;
+  for (size_t k = 0; k < truth.size(); ++k)
+    worst = std::max(worst, cv::norm(corners[k] - truth[k]));
+  CHECK(worst < 0.3);
+
+  const MarkedCorners crossed = {marks[0], marks[2], marks[1], marks[3]};
+  CHECK_THROWS_WITH(corners_from_marks(image, board, crossed), Contains("convex quadrilateral"));
+  MarkedCorners outside = marks;
+  outside[2] = {static_cast<float>(image.cols) + 3, 10};
+  CHECK_THROWS_WITH(corners_from_marks(image, board, outside), Contains("outside the"));
+  // Marks around noise: the refined corners scatter off their rows and columns.
+  cv::Mat noise(image.size(), CV_8UC1);
+  cv::RNG(7).fill(noise, cv::RNG::NORMAL, 128, 40);
+  CHECK_THROWS_WITH(corners_from_marks(noise, board, marks), Contains("do not outline the board"));
+}
+
+TEST_CASE("--corners reads marks by camera and view; bad files name the file and field") {
+  const auto dir = std::filesystem::temp_directory_path() / "hullpose-calibrate-marks";
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    const auto p = dir / name;
+    std::ofstream(p) << text;
+    return p.string();
+  };
+  auto parse = [](const std::string& file) {
+    std::array<const char*, 12> argv{
+        "hullpose-calibrate", "--images", "d",         "--out",     "r.yaml", "--board", "8x6",
+        "--square-mm",        "115",      "--corners", file.c_str()};
+    return parse_command_line(11, argv.data()).value();
+  };
+  const CommandLine ok = parse(write(
+      "ok.yaml", "marks:\n  - {camera: 2, view: floor, corners: [1, 2, 30, 2, 30, 20, 1, 20]}\n"));
+  CHECK(ok.options.board.corners_marked);
+  REQUIRE(ok.options.marked_corners.count({2, "floor"}) == 1);
+  CHECK(ok.options.marked_corners.at({2, "floor"})[2] == cv::Point2f(30, 20));
+  const std::string short_list = write(
+      "short.yaml", "marks:\n  - {camera: 2, view: floor, corners: [1, 2, 30, 2, 30, 20, 1]}\n");
+  CHECK_THROWS_WITH(parse(short_list), Contains("short.yaml:2") && Contains("corners"));
+  const std::string twice =
+      write("twice.yaml",
+            "marks:\n  - {camera: 2, view: f, corners: [1, 2, 3, 4, 5, 6, 7, 8]}\n"
+            "  - {camera: 2, view: f, corners: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
+  CHECK_THROWS_WITH(parse(twice), Contains("marked twice"));
+  // Marks for an image that never came are an error, not silently unused.
+  CalibrationOptions o = ok.options;
+  RigCalibrator calibrator(o);
+  calibrator.add_detection("floor", 1, {644, 486}, {});
+  CHECK_THROWS_WITH(calibrator.solve(), Contains("camera 2, view floor, but no such image"));
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("a miss says what was searched for, and how") {

@@ -31,10 +31,11 @@ void BoardSpec::validate() const {
   HULLPOSE_THROW_UNLESS(
       cols >= 3 && rows >= 3 && cols <= 64 && rows <= 64,
       "board: " << cols << "x" << rows << " inner corners; need 3..64 on each side");
-  HULLPOSE_THROW_UNLESS((cols + rows) % 2 == 1,
+  HULLPOSE_THROW_UNLESS(!symmetric() || corners_marked,
                         "board: " << cols << "x" << rows
                                   << " inner corners is symmetric under a half turn; use one even "
-                                     "and one odd side (e.g. 9x6) so corner order is unambiguous");
+                                     "and one odd side (e.g. 9x6) so corner order is unambiguous, "
+                                     "or mark its corners by hand (--corners)");
   HULLPOSE_THROW_UNLESS(square_mm > 0 && square_mm < 10000,
                         "board: square size " << square_mm << " mm must be in (0, 10000)");
 }
@@ -68,15 +69,45 @@ void to_board_order(std::vector<cv::Point2f>& corners, const cv::Mat& grey,
   if (should_be_black > should_be_white) std::reverse(corners.begin(), corners.end());
 }
 
-}  // namespace
-
-std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& board) {
+cv::Mat grey_of(const cv::Mat& image) {
   cv::Mat grey;
   if (image.channels() == 3)
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   else
     grey = image;
   HULLPOSE_ASSERT(grey.type() == CV_8UC1);
+  return grey;
+}
+
+// The smallest distance between neighbouring corners of a grid in board order.
+double corner_spacing(const std::vector<cv::Point2f>& corners, const BoardSpec& board) {
+  double spacing = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < board.rows; ++j)
+    for (int i = 0; i < board.cols; ++i) {
+      const cv::Point2f& p = corners[static_cast<size_t>(j * board.cols + i)];
+      if (i + 1 < board.cols)
+        spacing =
+            std::min(spacing, cv::norm(corners[static_cast<size_t>(j * board.cols + i + 1)] - p));
+      if (j + 1 < board.rows)
+        spacing =
+            std::min(spacing, cv::norm(corners[static_cast<size_t>((j + 1) * board.cols + i)] - p));
+    }
+  return spacing;
+}
+
+// cornerSubPix with a window that stays inside the four squares around a corner.
+void refine_corners(const cv::Mat& grey, const BoardSpec& board,
+                    std::vector<cv::Point2f>& corners) {
+  const int half = std::clamp(static_cast<int>(0.35 * corner_spacing(corners, board)), 2, 8);
+  cv::cornerSubPix(grey, corners, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-3));
+}
+
+}  // namespace
+
+std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& board) {
+  if (board.symmetric()) return {};  // found or not, its order would be a guess
+  const cv::Mat grey = grey_of(image);
   std::vector<cv::Point2f> corners;
   // SB (Duda & Frese's localized Radon detector) finds the board robustly; its own corner
   // positions are off by ~0.2 px RMS (0.15 px with CALIB_CB_ACCURACY, which costs 3x the time),
@@ -116,22 +147,64 @@ std::vector<cv::Point2f> detect_board(const cv::Mat& image, const BoardSpec& boa
       found = cv::findChessboardCornersSB(grey, board.pattern_size(), corners, exhaustive);
   }
   if (!found || static_cast<int>(corners.size()) != board.corner_count()) return {};
-  // The refinement window must stay inside the four squares around a corner.
-  double spacing = std::numeric_limits<double>::infinity();
-  for (int j = 0; j < board.rows; ++j)
-    for (int i = 0; i < board.cols; ++i) {
-      const cv::Point2f& p = corners[static_cast<size_t>(j * board.cols + i)];
-      if (i + 1 < board.cols)
-        spacing =
-            std::min(spacing, cv::norm(corners[static_cast<size_t>(j * board.cols + i + 1)] - p));
-      if (j + 1 < board.rows)
-        spacing =
-            std::min(spacing, cv::norm(corners[static_cast<size_t>((j + 1) * board.cols + i)] - p));
-    }
-  const int half = std::clamp(static_cast<int>(0.35 * spacing), 2, 8);
-  cv::cornerSubPix(grey, corners, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-3));
+  refine_corners(grey, board, corners);
   to_board_order(corners, grey, board);
+  return corners;
+}
+
+std::vector<cv::Point2f> corners_from_marks(const cv::Mat& image, const BoardSpec& board,
+                                            const MarkedCorners& marks) {
+  const cv::Mat grey = grey_of(image);
+  const cv::Rect inside(0, 0, grey.cols, grey.rows);
+  for (const cv::Point2f& m : marks)
+    HULLPOSE_THROW_UNLESS(inside.contains(m), "marked corner (" << m.x << ", " << m.y
+                                                                << ") is outside the " << grey.cols
+                                                                << "x" << grey.rows << " image");
+  // Board order turns one way all round (either way: a board seen from behind is mirrored).
+  int turns = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    const cv::Point2f a = marks[(k + 1) % 4] - marks[k],
+                      b = marks[(k + 2) % 4] - marks[(k + 1) % 4];
+    turns += a.cross(b) > 0 ? 1 : a.cross(b) < 0 ? -1 : 0;
+  }
+  HULLPOSE_THROW_UNLESS(std::abs(turns) == 4,
+                        "the four marked corners are not a convex quadrilateral in board order "
+                        "(corner (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1))");
+  const std::vector<cv::Point3f> object = board.object_points();
+  std::vector<cv::Point2f> plane(object.size());
+  for (size_t k = 0; k < object.size(); ++k) plane[k] = {object[k].x, object[k].y};
+  const auto c = static_cast<size_t>(board.cols), r = static_cast<size_t>(board.rows);
+  const std::vector<cv::Point2f> outline = {plane[0], plane[c - 1], plane[r * c - 1],
+                                            plane[(r - 1) * c]};
+  cv::Mat h =
+      cv::getPerspectiveTransform(outline, std::vector<cv::Point2f>(marks.begin(), marks.end()));
+  std::vector<cv::Point2f> corners;
+  cv::perspectiveTransform(plane, corners, h);
+  refine_corners(grey, board, corners);
+  // Again from the homography of every refined corner: marks a few pixels off put the first
+  // prediction of the middle corners further off than the refinement reaches.
+  h = cv::findHomography(plane, corners);
+  HULLPOSE_THROW_UNLESS(!h.empty(), "the refined corners fit no homography");
+  cv::perspectiveTransform(plane, corners, h);
+  refine_corners(grey, board, corners);
+  // Perspective and lens distortion bend the grid's rows and columns smoothly; a corner that
+  // refined onto something else (marks that do not outline the board) sits off the line of its
+  // two neighbours by about a square. Blurred boards of a few pixels a square refine to within
+  // a pixel or two of that line, hence the loose bound: half the smallest square.
+  const double spacing = corner_spacing(corners, board);
+  auto at = [&](size_t i, size_t j) { return corners[j * c + i]; };
+  for (size_t j = 0; j < r; ++j)
+    for (size_t i = 0; i < c; ++i) {
+      double bend = 0;
+      if (i > 0 && i + 1 < c) bend = cv::norm(at(i - 1, j) + at(i + 1, j) - 2 * at(i, j));
+      if (j > 0 && j + 1 < r)
+        bend = std::max(bend, cv::norm(at(i, j - 1) + at(i, j + 1) - 2 * at(i, j)));
+      HULLPOSE_THROW_UNLESS(bend / 2 <= spacing / 2,
+                            "the marks do not outline the board: refined corner ("
+                                << i << ", " << j << ") is " << bend / 2
+                                << " px off the line of its neighbours (squares are " << spacing
+                                << " px or more)");
+    }
   return corners;
 }
 
@@ -141,6 +214,8 @@ namespace hullpose::calibrate {
 
 std::string board_search_summary(const BoardSpec& board, cv::Size image) {
   std::ostringstream s;
+  if (board.symmetric())
+    return "not searched: a symmetric board's corner order is known only from marks (--corners)";
   s << "no complete grid of " << board.cols << "x" << board.rows
     << " inner corners found (cv::findChessboardCornersSB";
   if (image.width >= 640 && image.height >= 480) s << " at half size,";

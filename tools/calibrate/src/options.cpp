@@ -2,6 +2,7 @@
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/cli.hpp"
+#include "hullpose/common/yaml.hpp"
 
 namespace hullpose::calibrate {
 
@@ -37,6 +38,11 @@ std::string usage() {
          "                           board poses and the extrinsics are estimated; one view per "
          "camera\n"
          "                           (the floor board) is enough\n"
+         "  --corners FILE           board corners marked by hand, for boards no detector finds "
+         "or\n"
+         "                           symmetric ones (both sides even): per camera and view, the\n"
+         "                           pixels of inner corners (0,0), (COLS-1,0), (COLS-1,ROWS-1),\n"
+         "                           (0,ROWS-1); only marked images are used then\n"
          "  --no-k3                  do not estimate the k3 distortion coefficient\n"
          "  --volume-min-cameras N   capture volume: points seen by N cameras (default: all)\n"
          "  --max-rms-px E           refuse a rig whose RMS reprojection error exceeds E (default "
@@ -47,6 +53,31 @@ std::string usage() {
          "frames)\n"
          "  --quiet                  no per-image feedback\n";
 }
+
+namespace {
+
+// marks:
+//   - {camera: 1, view: floor, corners: [x0, y0, x1, y1, x2, y2, x3, y3]}
+std::map<std::pair<int, std::string>, MarkedCorners> read_marks(const std::string& file) {
+  const yaml::Document doc = yaml::Document::load(file);
+  std::map<std::pair<int, std::string>, MarkedCorners> out;
+  for (const yaml::Node& m : doc.root().need("marks").items()) {
+    const auto key =
+        std::make_pair(static_cast<int>(m.need("camera").integer(0, 63)), m.need("view").string());
+    const std::vector<double> xy = m.need("corners").reals(8);
+    MarkedCorners corners;
+    for (size_t k = 0; k < 4; ++k)
+      corners[k] = {static_cast<float>(xy[2 * k]), static_cast<float>(xy[2 * k + 1])};
+    HULLPOSE_THROW_UNLESS(out.emplace(key, corners).second, m.where() << ": camera " << key.first
+                                                                      << ", view " << key.second
+                                                                      << " is marked twice");
+  }
+  doc.check_all_read();
+  HULLPOSE_THROW_UNLESS(!out.empty(), file << ": marks: no view is marked");
+  return out;
+}
+
+}  // namespace
 
 std::optional<CommandLine> parse_command_line(int argc, const char* const* argv) {
   CommandLine cli;
@@ -94,6 +125,11 @@ std::optional<CommandLine> parse_command_line(int argc, const char* const* argv)
       .option("--min-views", cli.options.intrinsics.min_views)
       .flag("--fix-intrinsics", [&] { cli.options.refine_intrinsics = false; })
       .flag("--exhaustive-search", [&] { cli.options.board.exhaustive_search = true; })
+      .option("--corners",
+              [&](const std::string& v) {
+                cli.options.marked_corners = read_marks(v);
+                cli.options.board.corners_marked = true;
+              })
       .flag("--no-k3", [&] { cli.options.intrinsics.estimate_k3 = false; })
       .option("--volume-min-cameras", cli.options.volume_min_cameras)
       .option("--max-rms-px", cli.options.max_rms_px)

@@ -58,14 +58,29 @@ int RigCalibrator::view_index(const std::string& view) {
 }
 
 void RigCalibrator::add(const CaptureInstant& instant) {
-  // Detection dominates the run time and the images are independent: one task per image.
   std::vector<std::vector<cv::Point2f>> corners(instant.images.size());
-  cv::parallel_for_(
-      cv::Range(0, static_cast<int>(instant.images.size())), [&](const cv::Range& range) {
-        for (int i = range.start; i < range.end; ++i)
-          corners[static_cast<size_t>(i)] =
-              detect_board(instant.images[static_cast<size_t>(i)].image, options_.board);
-      });
+  std::vector<size_t> unmarked;
+  for (size_t i = 0; i < instant.images.size(); ++i) {
+    const auto key = std::make_pair(instant.images[i].camera_id, instant.name);
+    const auto mark = options_.marked_corners.find(key);
+    if (mark == options_.marked_corners.end()) {
+      unmarked.push_back(i);
+      continue;
+    }
+    try {
+      corners[i] = corners_from_marks(instant.images[i].image, options_.board, mark->second);
+    } catch (const Error& e) {
+      HULLPOSE_THROW("camera " << key.first << ", view " << key.second << ": " << e.what());
+    }
+    marks_used_.insert(key);
+  }
+  // Detection dominates the run time and the images are independent: one task per image.
+  cv::parallel_for_(cv::Range(0, static_cast<int>(unmarked.size())), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k) {
+      const size_t i = unmarked[static_cast<size_t>(k)];
+      corners[i] = detect_board(instant.images[i].image, options_.board);
+    }
+  });
   for (size_t i = 0; i < instant.images.size(); ++i)
     add_detection(instant.name, instant.images[i].camera_id, instant.images[i].image.size(),
                   std::move(corners[i]));
@@ -319,6 +334,10 @@ void check_consistent(const CalibrationOptions& options,
 
 CalibrationResult RigCalibrator::solve() const {
   HULLPOSE_THROW_UNLESS(!cameras_.empty(), "no images were given");
+  for (const auto& [key, marks] : options_.marked_corners)
+    HULLPOSE_THROW_UNLESS(marks_used_.count(key) != 0, "corners were marked for camera "
+                                                           << key.first << ", view " << key.second
+                                                           << ", but no such image was given");
   std::vector<int> ids;
   const std::vector<IntrinsicsResult> intrinsics =
       calibrate_intrinsics(cameras_, options_.known_intrinsics, ids);

@@ -4,7 +4,9 @@
 // observation, the world frame from the board lying on the floor and the capture volume.
 #include <iosfwd>
 #include <map>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hullpose/calibrate/board.hpp"
@@ -28,6 +30,10 @@ struct CalibrationOptions {
   // Cameras whose intrinsics are known (by id, from another calibration: --intrinsics RIG.yaml):
   // only their board poses are estimated, and the bundle adjustment keeps their intrinsics.
   std::map<int, CameraModel> known_intrinsics;
+  // Board corners marked by hand, by (camera id, view) (--corners FILE): those images are not
+  // searched but refined from the marks. With marks, board.corners_marked allows a symmetric
+  // board, and its unmarked images are skipped (no detector can order it).
+  std::map<std::pair<int, std::string>, MarkedCorners> marked_corners;
   int volume_min_cameras = 0;  // 0: all cameras
   double max_rms_px = 2.0;     // a rig worse than this is refused, not written
 };
@@ -68,7 +74,8 @@ class RigCalibrator {
   void add_all(ViewProvider& provider);
 
   // Throws hullpose::Error naming the cameras at fault: too few or degenerate views, no floor
-  // board, cameras not linked to the rig, an inconsistent result.
+  // board, cameras not linked to the rig, an inconsistent result, marks for an image that never
+  // came.
   CalibrationResult solve() const;
 
  private:
@@ -79,6 +86,7 @@ class RigCalibrator {
   std::map<int, IntrinsicsCalibrator> cameras_;
   std::vector<std::string> views_;
   std::map<std::string, int> view_index_;
+  std::set<std::pair<int, std::string>> marks_used_;
 };
 
 void print_report(std::ostream& out, const CalibrationResult& result);
