@@ -37,7 +37,7 @@ uint64_t get_u64(const uint8_t* p) {
 // Poly1305 is computed by OpenSSL, the rest of the construction by libsodium: Debian 12's
 // libsodium (1.0.18) has only portable/SSE2 Poly1305 code, OpenSSL 3.0 has AVX2/AVX-512
 // (x86-64) and NEON (arm64) code. Same bytes (test_auth checks them against libsodium's
-// crypto_onetimeauth), about 3x faster on a 16 KB message (docs/perf-log.md, issue 19). The
+// crypto_onetimeauth), about 2x faster on a 16 KB message (docs/perf-log.md, issue 19). The
 // context is per thread because signers and verifiers are called from several threads; made
 // once per thread, so signing allocates nothing per message.
 struct MacContextFree {

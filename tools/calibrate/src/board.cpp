@@ -195,13 +195,14 @@ std::vector<cv::Point2f> corners_from_marks(const cv::Mat& image, const BoardSpe
   auto at = [&](size_t i, size_t j) { return corners[j * c + i]; };
   for (size_t j = 0; j < r; ++j)
     for (size_t i = 0; i < c; ++i) {
-      double bend = 0;
-      if (i > 0 && i + 1 < c) bend = cv::norm(at(i - 1, j) + at(i + 1, j) - 2 * at(i, j));
+      // Distance from the midpoint of its two neighbours along a row or a column.
+      double off = 0;
+      if (i > 0 && i + 1 < c) off = cv::norm(0.5f * (at(i - 1, j) + at(i + 1, j)) - at(i, j));
       if (j > 0 && j + 1 < r)
-        bend = std::max(bend, cv::norm(at(i, j - 1) + at(i, j + 1) - 2 * at(i, j)));
-      HULLPOSE_THROW_UNLESS(bend / 2 <= spacing / 2,
+        off = std::max(off, cv::norm(0.5f * (at(i, j - 1) + at(i, j + 1)) - at(i, j)));
+      HULLPOSE_THROW_UNLESS(off <= spacing / 2,
                             "the marks do not outline the board: refined corner ("
-                                << i << ", " << j << ") is " << bend / 2
+                                << i << ", " << j << ") is " << off
                                 << " px off the line of its neighbours (squares are " << spacing
                                 << " px or more)");
     }
