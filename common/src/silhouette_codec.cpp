@@ -158,15 +158,30 @@ PixelRoi SilhouetteEncoder::encode(const cv::Mat& mask, std::vector<uint8_t>& ou
   if (nseg > 0) {
     const auto w = static_cast<uint64_t>(roi.width);
     uint64_t pos = 0;  // linear position inside the ROI
+    // Segments of consecutive rows that touch in the ROI's linear order (a ROI one pixel wide, or
+    // a row's run ending at the ROI's right edge and the next row's starting at its left edge)
+    // join into one foreground run: an empty background run between them would break the
+    // decoder's bound of area + 2 runs (found by fuzz_silhouette_decoder: a vertical line).
+    uint64_t fg_begin = 0, fg_len = 0;  // the foreground run not yet written
+    auto write_run = [&] {
+      n += put_varint(p + n, static_cast<uint32_t>(fg_begin - pos));
+      n += put_varint(p + n, static_cast<uint32_t>(fg_len));
+      pos = fg_begin + fg_len;
+      runs += 2;
+    };
     for (size_t i = 0; i < nseg; ++i) {
       const uint64_t begin = (segments_[3 * i] - static_cast<uint32_t>(roi.y)) * w +
                              (segments_[3 * i + 1] - static_cast<uint32_t>(roi.x));
       const uint64_t len = segments_[3 * i + 2] - segments_[3 * i + 1];
-      n += put_varint(p + n, static_cast<uint32_t>(begin - pos));
-      n += put_varint(p + n, static_cast<uint32_t>(len));
-      pos = begin + len;
-      runs += 2;
+      if (fg_len > 0 && begin == fg_begin + fg_len) {
+        fg_len += len;
+        continue;
+      }
+      if (fg_len > 0) write_run();
+      fg_begin = begin;
+      fg_len = len;
     }
+    write_run();
     n += put_varint(p + n, static_cast<uint32_t>(w * static_cast<uint64_t>(roi.height) - pos));
     ++runs;
   }

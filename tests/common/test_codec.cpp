@@ -56,6 +56,17 @@ TEST_CASE("codec round-trips masks of every kind") {
     CHECK(same_mask(roundtrip(m, &roi), m));
     CHECK(roi == PixelRoi{0, 0, 800, 600});
   }
+  SECTION("a vertical line one pixel wide: consecutive rows join into one run") {
+    // fuzz_silhouette_decoder found it: one run per row, with empty background runs between
+    // them, was more runs than a decoder accepts for the ROI's area.
+    cv::Mat m(40, 50, CV_8UC1, cv::Scalar(0));
+    m(cv::Rect(24, 20, 1, 13)).setTo(255);
+    PixelRoi roi;
+    size_t bytes = 0;
+    CHECK(same_mask(roundtrip(m, &roi, &bytes), m));
+    CHECK(roi == PixelRoi{24, 20, 1, 13});
+    CHECK(bytes == 20 + 3);  // runs 0, 13, 0
+  }
   SECTION("one pixel, at corners and inside") {
     for (cv::Point p : {cv::Point{0, 0}, cv::Point{799, 599}, cv::Point{799, 0}, cv::Point{0, 599},
                         cv::Point{123, 456}}) {
