@@ -17,8 +17,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Bone sampling points for the inside test: the axis at these fractions.
-constexpr std::array<float, 3> kInsideSamples = {0.2f, 0.5f, 0.8f};
+// Bone sampling points for the inside test and pull: the axis at these fractions, both joints
+// included (a joint left outside the hull is as wrong as a bone's middle).
+constexpr std::array<double, 5> kInsideSamples = {0.0, 0.25, 0.5, 0.75, 1.0};
 
 }  // namespace
 
@@ -166,6 +167,41 @@ HullTracker::Hit HullTracker::nearest(const Eigen::Vector3f& p) const {
   return hit;
 }
 
+// The model-to-hull half of the fit. The surface points pull capsules onto the surface, but a
+// bone the hull has no volume for draws no point of its own: an arm held against the torso
+// gives the points near it to the torso's capsule, and an arm still where the last frame had it
+// stays there, outside the body. The hull contains the body, so every bone sample outside it is
+// wrong: it is pulled to the nearest surface point (searched with the iteration's stride; only
+// outside samples pay for it), shared between the bone's joints like a surface point's
+// displacement.
+void HullTracker::pull_inside(const HullSurface& surface, const JointPositions& x, size_t stride) {
+  const auto points = surface.points();
+  if (points.empty() || params_.inside_weight <= 0) return;
+  const double w = params_.inside_weight;
+  for (int b = 0; b < kNumBones; ++b) {
+    const int pj = index(kBones[b].parent), cj = index(kBones[b].child);
+    for (double t : kInsideSamples) {
+      const Eigen::Vector3d s = x[pj] + t * (x[cj] - x[pj]);
+      if (surface.inside(s)) continue;
+      const Eigen::Vector3f sf = s.cast<float>();
+      float best = std::numeric_limits<float>::max();
+      size_t best_k = 0;
+      for (size_t k = 0; k < points.size(); k += stride) {
+        const float d2 = (points[k] - sf).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          best_k = k;
+        }
+      }
+      const Eigen::Vector3d e = points[best_k].cast<double>() - s;
+      pull_[pj] += w * (1 - t) * e;
+      pull_[cj] += w * t * e;
+      support_[pj] += w * (1 - t);
+      support_[cj] += w * t;
+    }
+  }
+}
+
 void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
                       const JointPositions& prior, Detected detected) {
   JointPositions& x = result_.joints;
@@ -201,6 +237,7 @@ void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
       support_[cj] += wc;
       ++bone_points_[h.bone];
     }
+    pull_inside(surface, x, stride);
     shake_.clear_targets();
     for (int j = 0; j < kNumJoints; ++j) {
       shake_.add_point(static_cast<Joint>(j), prior[j], params_.prior_weight);
@@ -340,7 +377,7 @@ double HullTracker::inside_fraction(const HullSurface& surface, const JointPosit
   for (int b = 0; b < kNumBones; ++b) {
     const Eigen::Vector3d& a = pose[index(kBones[b].parent)];
     const Eigen::Vector3d& c = pose[index(kBones[b].child)];
-    for (float t : kInsideSamples) {
+    for (double t : kInsideSamples) {
       in += surface.inside(a + t * (c - a));
       ++n;
     }
