@@ -43,6 +43,10 @@ TEST_CASE(
   CHECK_FALSE(all.touches_edge());
   CHECK(all.inside(g.centre_mm({8, 8, 8})));
   CHECK_FALSE(all.inside(g.centre_mm({2, 2, 2})));
+  // The cube's top face (voxels z 4..11), over its middle and not beside it.
+  const Eigen::Vector2d middle = g.centre_mm({8, 8, 0}).head<2>();
+  CHECK(all.top_mm(middle, 1.5 * g.voxel_mm) == Approx(g.origin_mm.z() + 12 * g.voxel_mm));
+  CHECK(std::isnan(all.top_mm(g.centre_mm({20, 20, 0}).head<2>(), 1.5 * g.voxel_mm)));
   hull.set(0, 8, 8);
   all.extract(&hull, g);
   CHECK(all.touches_edge());

@@ -1,6 +1,7 @@
 #include "hullpose/pose/hull_pose_estimator.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <hullpose_msg/skeleton_t.hpp>
 
 #include "hullpose/common/check.hpp"
@@ -36,6 +37,34 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tra
   return true;
 }
 
+// The body model's starting stature. The bottom-up reading's can be far off (21 % short on the
+// salsa clips: arms folded into the torso shorten every path of the curve skeleton), and the
+// model cannot grow out of a start that small: the hull above its head lies beyond the tracker's
+// gate. A lower bound that no reading can shorten: the stature is the toe-to-head-top path along
+// the bones (anthropometry.hpp), so it is at least the head top's height above the floor (z = 0,
+// docs/conventions.md), and for an upright subject (nothing but the head near the top) the
+// hull's top over the head is that height to a voxel. The start is the larger of the reading
+// and the median of those heights over the settling frames. Heights outside 0.8-1.5 of the
+// reading are not the head's (a hand above it, a cut-off hull).
+double HullPoseEstimator::start_stature(const PoseEstimate& det) {
+  const JointPositions& j = det.joints_mm;
+  const double head_top = j[index(Joint::HeadTop)].z(), clearance = 0.05 * det.stature_mm;
+  bool upright = true;
+  for (int k = 0; k < kNumJoints; ++k) {
+    const Joint joint = static_cast<Joint>(k);
+    if (joint != Joint::HeadTop && joint != Joint::Head && joint != Joint::Neck &&
+        j[k].z() > head_top - clearance)
+      upright = false;
+  }
+  if (upright) {
+    const double h = surface_.top_mm(j[index(Joint::HeadTop)].head<2>(), 0.08 * det.stature_mm) -
+                     surface_.voxel_mm();
+    if (std::isfinite(h) && h > 0.8 * det.stature_mm && h < 1.5 * det.stature_mm)
+      hull_height_ = hull_height_median_.add(h);
+  }
+  return hull_height_median_.count() > 0 ? std::max(det.stature_mm, hull_height_) : det.stature_mm;
+}
+
 const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton,
                                                 const fusion::BitGrid* hull,
                                                 const VoxelGridSpec& grid) {
@@ -52,7 +81,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   // The body model starts at the bottom-up path's running stature, restarting on each valid
   // frame until that median has settled (one frame's stature can be far off).
   const bool settling = bottom_up_.stature_frames() <= params_.bottom_up.stature_settle_frames;
-  if (det.valid && (!body_.started() || settling)) body_.reset(det.stature_mm);
+  if (det.valid && (!body_.started() || settling)) body_.reset(start_stature(det));
   if (!body_.started()) return out_;
   if (!tracker_.active()) {
     if (!det.valid) {

@@ -96,6 +96,32 @@ bool HullSurface::inside(const Eigen::Vector3d& mm) const {
   return hull_->get_or_zero(x, y, z);
 }
 
+double HullSurface::top_mm(const Eigen::Vector2d& xy, double radius_mm) const {
+  if (hull_ == nullptr) return kNaN;
+  const Eigen::Vector3i d = hull_->dims();
+  const double v = grid_.voxel_mm;
+  const int x0 =
+      std::max(0, static_cast<int>(std::floor((xy.x() - radius_mm - grid_.origin_mm.x()) / v)));
+  const int x1 = std::min(
+      d.x() - 1, static_cast<int>(std::floor((xy.x() + radius_mm - grid_.origin_mm.x()) / v)));
+  const int y0 =
+      std::max(0, static_cast<int>(std::floor((xy.y() - radius_mm - grid_.origin_mm.y()) / v)));
+  const int y1 = std::min(
+      d.y() - 1, static_cast<int>(std::floor((xy.y() + radius_mm - grid_.origin_mm.y()) / v)));
+  int top = -1;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector3d c = grid_.centre_mm({x, y, 0});
+      if ((c.head<2>() - xy).squaredNorm() > radius_mm * radius_mm) continue;
+      for (int z = d.z() - 1; z > top; --z)
+        if (hull_->get(x, y, z)) {
+          top = z;
+          break;
+        }
+    }
+  return top < 0 ? kNaN : grid_.origin_mm.z() + (top + 1) * v;
+}
+
 // ---------------------------------------------------------------------------------------------
 // HullTracker
 

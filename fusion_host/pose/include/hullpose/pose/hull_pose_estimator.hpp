@@ -79,6 +79,7 @@ class HullPoseEstimator {
 
  private:
   bool try_candidate(const JointPositions& detected, double tracked_score);
+  double start_stature(const PoseEstimate& det);
 
   HullPoseParams params_;
   PoseEstimator bottom_up_;
@@ -93,6 +94,9 @@ class HullPoseEstimator {
   double score_ = 0, median_score_ = 0;
   int frames_since_check_ = 0;
   RunningMedian<kScoreWindow> score_median_;
+  // Hull heights over the head in upright settling frames (start_stature).
+  RunningMedian<16> hull_height_median_;
+  double hull_height_ = 0;
 };
 
 }  // namespace hullpose::pose

@@ -39,6 +39,9 @@ class HullSurface {
   // Whether the hull reaches a side or the top of the grid (part of the body is outside).
   bool touches_edge() const { return touches_edge_; }
   bool inside(const Eigen::Vector3d& mm) const;
+  // Height (mm, z) of the top face of the highest hull voxel whose centre lies within radius_mm
+  // of `xy` horizontally; NaN when there is none.
+  double top_mm(const Eigen::Vector2d& xy, double radius_mm) const;
   double voxel_mm() const { return grid_.voxel_mm; }
 
  private:
