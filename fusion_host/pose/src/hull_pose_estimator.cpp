@@ -44,8 +44,9 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tra
 // the bones (anthropometry.hpp), so it is at least the head top's height above the floor (z = 0,
 // docs/conventions.md), and for an upright subject (nothing but the head near the top) the
 // hull's top over the head is that height to a voxel. The start is the larger of the reading
-// and the median of those heights over the settling frames. Heights outside 0.8-1.5 of the
-// reading are not the head's (a hand above it, a cut-off hull).
+// and the median of those heights over the settling frames. Heights outside 0.8-1.35 of the
+// reading are taken for something else (a hand above the head, a cut-off hull): standing height
+// is 0.88-0.96 of the path on the CMU subjects, and 60_01's reading, 25 % short, gives 1.30.
 double HullPoseEstimator::start_stature(const PoseEstimate& det) {
   const JointPositions& j = det.joints_mm;
   const double head_top = j[index(Joint::HeadTop)].z(), clearance = 0.05 * det.stature_mm;
@@ -59,7 +60,7 @@ double HullPoseEstimator::start_stature(const PoseEstimate& det) {
   if (upright) {
     const double h = surface_.top_mm(j[index(Joint::HeadTop)].head<2>(), 0.08 * det.stature_mm) -
                      surface_.voxel_mm();
-    if (std::isfinite(h) && h > 0.8 * det.stature_mm && h < 1.5 * det.stature_mm)
+    if (std::isfinite(h) && h > 0.8 * det.stature_mm && h < 1.35 * det.stature_mm)
       hull_height_ = hull_height_median_.add(h);
   }
   return hull_height_median_.count() > 0 ? std::max(det.stature_mm, hull_height_) : det.stature_mm;
@@ -78,8 +79,9 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   reacquired_ = false;
   out_ = det;  // reason, detail, timings of the bottom-up path; overwritten below when tracking
   surface_.extract(hull, grid);  // nullptr: no surface
-  // The body model starts at the bottom-up path's running stature, restarting on each valid
-  // frame until that median has settled (one frame's stature can be far off).
+  // The body model starts at start_stature() (the bottom-up path's running stature, or the
+  // hull's height if larger), restarting on each valid frame until that median has settled (one
+  // frame's stature can be far off).
   const bool settling = bottom_up_.stature_frames() <= params_.bottom_up.stature_settle_frames;
   if (det.valid && (!body_.started() || settling)) body_.reset(start_stature(det));
   if (!body_.started()) return out_;
