@@ -72,11 +72,12 @@ void PoseTreeBuilder::invalidate(const char* why) {
 void PoseTreeBuilder::grow_tree(std::span<const Eigen::Vector3i> voxels,
                                 const VoxelGridSpec& grid) {
   index_voxels(voxels, grid);
+  index_neighbours(voxels, grid);
   tree_.position.clear();
   tree_.parent.clear();
   const int32_t root = largest_component_root(voxels, grid);
   if (root >= 0) {
-    depths_from(voxels, grid, root);
+    depths_from(voxels.size(), root);
     one_node_per_depth_layer(voxels, grid);
   }
   for (const Eigen::Vector3i& v : voxels)
@@ -98,20 +99,32 @@ void PoseTreeBuilder::index_voxels(std::span<const Eigen::Vector3i> voxels,
   }
 }
 
+// The voxels' 26-neighbour lists, once per frame: the three graph passes below read them instead
+// of 26 lookups each into the grid-sized table (scattered over three z-planes: on the crane's
+// real skeletons the lookups were ~40 % of the bottom-up stage).
+void PoseTreeBuilder::index_neighbours(std::span<const Eigen::Vector3i> voxels,
+                                       const VoxelGridSpec& grid) {
+  neighbour_begin_.assign(voxels.size() + 1, 0);
+  neighbours_.clear();
+  for (size_t i = 0; i < voxels.size(); ++i) {
+    const Eigen::Vector3i& v = voxels[i];
+    if (grid.contains(v))
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx == 0 && dy == 0 && dz == 0) continue;
+            const Eigen::Vector3i w(v.x() + dx, v.y() + dy, v.z() + dz);
+            if (!grid.contains(w)) continue;
+            const int32_t j = lookup_[grid.index(w.x(), w.y(), w.z())];
+            if (j >= 0) neighbours_.push_back(j);
+          }
+    neighbour_begin_[i + 1] = static_cast<int32_t>(neighbours_.size());
+  }
+}
+
 template <typename Visit>
-void PoseTreeBuilder::for_each_neighbour(std::span<const Eigen::Vector3i> voxels,
-                                         const VoxelGridSpec& grid, int32_t i,
-                                         Visit&& visit) const {
-  const Eigen::Vector3i& v = voxels[i];
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        if (dx == 0 && dy == 0 && dz == 0) continue;
-        const Eigen::Vector3i w(v.x() + dx, v.y() + dy, v.z() + dz);
-        if (!grid.contains(w)) continue;
-        const int32_t j = lookup_[grid.index(w.x(), w.y(), w.z())];
-        if (j >= 0) visit(j);
-      }
+void PoseTreeBuilder::for_each_neighbour(int32_t i, Visit&& visit) const {
+  for (int32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k) visit(neighbours_[k]);
 }
 
 // Components: the largest wins, rooted at its top-most voxel (ties: first listed); -1 if none.
@@ -131,7 +144,7 @@ int32_t PoseTreeBuilder::largest_component_root(std::span<const Eigen::Vector3i>
     for (size_t q = 0; q < queue_.size(); ++q) {
       const int32_t i = queue_[q];
       if (voxels[i].z() > voxels[top].z() || (voxels[i].z() == voxels[top].z() && i < top)) top = i;
-      for_each_neighbour(voxels, grid, i, [&](int32_t j) {
+      for_each_neighbour(i, [&](int32_t j) {
         if (component_[j] < 0) {
           component_[j] = id;
           queue_.push_back(j);
@@ -147,15 +160,14 @@ int32_t PoseTreeBuilder::largest_component_root(std::span<const Eigen::Vector3i>
 }
 
 // Breadth-first depth of every voxel of the root's component; queue_ holds them in visit order.
-void PoseTreeBuilder::depths_from(std::span<const Eigen::Vector3i> voxels,
-                                  const VoxelGridSpec& grid, int32_t root) {
-  depth_.assign(voxels.size(), -1);
+void PoseTreeBuilder::depths_from(size_t voxel_count, int32_t root) {
+  depth_.assign(voxel_count, -1);
   queue_.clear();
   queue_.push_back(root);
   depth_[root] = 0;
   for (size_t q = 0; q < queue_.size(); ++q) {
     const int32_t i = queue_[q];
-    for_each_neighbour(voxels, grid, i, [&](int32_t j) {
+    for_each_neighbour(i, [&](int32_t j) {
       if (depth_[j] < 0) {
         depth_[j] = depth_[i] + 1;
         queue_.push_back(j);
@@ -187,7 +199,7 @@ void PoseTreeBuilder::one_node_per_depth_layer(std::span<const Eigen::Vector3i> 
       stack_.pop_back();
       sum += grid.centre_mm(voxels[i]);
       ++members;
-      for_each_neighbour(voxels, grid, i, [&](int32_t j) {
+      for_each_neighbour(i, [&](int32_t j) {
         if (depth_[j] == depth && cluster_[j] < 0) {
           cluster_[j] = id;
           stack_.push_back(j);

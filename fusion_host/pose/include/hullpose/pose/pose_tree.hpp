@@ -152,13 +152,12 @@ class PoseTreeBuilder {
   bool orient(const TemporalHint& hint, double stature);
   // grow_tree()'s steps.
   void index_voxels(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
+  void index_neighbours(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
   template <typename Visit>
-  void for_each_neighbour(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
-                          int32_t i, Visit&& visit) const;
+  void for_each_neighbour(int32_t i, Visit&& visit) const;
   int32_t largest_component_root(std::span<const Eigen::Vector3i> voxels,
                                  const VoxelGridSpec& grid);
-  void depths_from(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid,
-                   int32_t root);
+  void depths_from(size_t voxel_count, int32_t root);
   void one_node_per_depth_layer(std::span<const Eigen::Vector3i> voxels, const VoxelGridSpec& grid);
   void build_adjacency();
   // orient()'s steps.
@@ -188,10 +187,11 @@ class PoseTreeBuilder {
   TreeParams params_;
   LabelledTree tree_;
   VoxelGridSpec grid_;
-  std::vector<int32_t> lookup_;     // grid index -> input voxel index, -1 elsewhere
-  std::vector<int32_t> component_;  // per input voxel: connected component
-  std::vector<int32_t> depth_;      // per input voxel: breadth-first depth from the root
-  std::vector<int32_t> cluster_;    // per input voxel: tree node
+  std::vector<int32_t> lookup_;  // grid index -> input voxel index, -1 elsewhere
+  std::vector<int32_t> neighbour_begin_, neighbours_;  // per input voxel: its 26-neighbours (CSR)
+  std::vector<int32_t> component_;                     // per input voxel: connected component
+  std::vector<int32_t> depth_;    // per input voxel: breadth-first depth from the root
+  std::vector<int32_t> cluster_;  // per input voxel: tree node
   std::vector<int32_t> stack_;
   std::vector<int32_t> adj_begin_, adj_;  // tree adjacency (CSR)
   std::vector<uint8_t> alive_;
