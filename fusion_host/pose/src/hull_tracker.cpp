@@ -100,14 +100,14 @@ double HullSurface::top_mm(const Eigen::Vector2d& xy, double radius_mm) const {
   if (hull_ == nullptr) return kNaN;
   const Eigen::Vector3i d = hull_->dims();
   const double v = grid_.voxel_mm;
-  const int x0 =
-      std::max(0, static_cast<int>(std::floor((xy.x() - radius_mm - grid_.origin_mm.x()) / v)));
-  const int x1 = std::min(
-      d.x() - 1, static_cast<int>(std::floor((xy.x() + radius_mm - grid_.origin_mm.x()) / v)));
-  const int y0 =
-      std::max(0, static_cast<int>(std::floor((xy.y() - radius_mm - grid_.origin_mm.y()) / v)));
-  const int y1 = std::min(
-      d.y() - 1, static_cast<int>(std::floor((xy.y() + radius_mm - grid_.origin_mm.y()) / v)));
+  // The column index holding `mm` along `axis` (0: x, 1: y), clamped to the grid (columns beyond
+  // the radius are skipped below, so clamping never adds one).
+  auto cell = [&](double mm, int axis) {
+    const int c = static_cast<int>(std::floor((mm - grid_.origin_mm[axis]) / v));
+    return std::clamp(c, 0, d[axis] - 1);
+  };
+  const int x0 = cell(xy.x() - radius_mm, 0), x1 = cell(xy.x() + radius_mm, 0);
+  const int y0 = cell(xy.y() - radius_mm, 1), y1 = cell(xy.y() + radius_mm, 1);
   int top = -1;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
