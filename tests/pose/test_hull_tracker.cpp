@@ -2,6 +2,7 @@
 // bodies (capsule_hull.hpp): what each promises, checked on shapes whose answer is known.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "capsule_hull.hpp"
@@ -147,6 +148,80 @@ TEST_CASE("a limb the hull does not show is kept inside the hull, with low confi
   CHECK(r.confidence[index(Joint::RHand)] < 0.6f * shown);
   CHECK(r.confidence[index(Joint::RHand)] < 0.6f * r.confidence[index(Joint::LHand)]);
   CHECK(r.confidence[index(Joint::LHand)] > 0.8f * shown);
+}
+
+namespace {
+// The shoulders and arms of an upright pose turned about the vertical through the chest.
+JointPositions turn_girdle(const JointPositions& pose, double deg) {
+  JointPositions turned = pose;
+  const Eigen::Vector3d chest = pose[index(Joint::Chest)];
+  const Eigen::AngleAxisd turn(deg * std::numbers::pi / 180, Eigen::Vector3d::UnitZ());
+  for (Joint j : {Joint::LSho, Joint::RSho, Joint::LElb, Joint::RElb, Joint::LHand, Joint::RHand,
+                  Joint::LFTip, Joint::RFTip})
+    turned[index(j)] = chest + turn * (pose[index(j)] - chest);
+  return turned;
+}
+}  // namespace
+
+TEST_CASE("torso_twist reads the shoulder line against the hip line; swap_arms swaps labels") {
+  const JointPositions upright = stick_figure(kStature, arms_down());
+  CHECK(std::abs(torso_twist(upright)) < 1e-9);
+  // The girdle and arms turned 30 deg about the spine (left shoulder forward: +y is forward,
+  // +x the subject's left, so +30 about up).
+  const JointPositions turned = turn_girdle(upright, 30);
+  CHECK(torso_twist(turned) * 180 / std::numbers::pi == Approx(30).margin(1e-6));
+  JointPositions swapped = upright;
+  swap_arms(swapped);
+  CHECK(std::abs(torso_twist(swapped)) * 180 / std::numbers::pi == Approx(180).margin(1e-6));
+  CHECK(swapped[index(Joint::LHand)] == upright[index(Joint::RHand)]);
+  CHECK(swapped[index(Joint::Head)] == upright[index(Joint::Head)]);
+}
+
+TEST_CASE(
+    "the shoulder girdle is kept within the trunk's twist: turned back, or its arms swapped "
+    "beyond 90 deg") {
+  // The hull cannot tell the arms apart, and the chest's capsule is round about the spine: a
+  // girdle turned round it explains the hull as well as the true one.
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel model = BodyModel::from_stature(kStature);
+  const JointPositions truth = stick_figure(kStature, arms_down());
+  fusion::BitGrid hull;
+  capsule_hull(g, truth, model, hull);
+  HullSurface surface(1000);
+  surface.extract(&hull, g);
+  auto track = [&](const JointPositions& start, const TrackParams& params) {
+    HullTracker tracker(params);
+    tracker.start(start);
+    for (int f = 0; f < 10; ++f) tracker.track(surface, model, {});
+    return tracker.result().joints;
+  };
+  auto arm_error = [&](const JointPositions& p) {
+    double e = 0;
+    for (Joint j : {Joint::LSho, Joint::LElb, Joint::LHand, Joint::RSho, Joint::RElb, Joint::RHand})
+      e += (p[index(j)] - truth[index(j)]).norm() / 6;
+    return e;
+  };
+  auto twist_deg = [](const JointPositions& p) { return torso_twist(p) * 180 / std::numbers::pi; };
+
+  SECTION("arms labelled the wrong way round (twist 180 deg) are swapped back") {
+    JointPositions start = truth;
+    swap_arms(start);
+    const JointPositions tracked = track(start, {});
+    INFO("arm joints off by " << arm_error(start) << " mm at the start, " << arm_error(tracked)
+                              << " mm tracked");
+    CHECK(arm_error(tracked) < 25);
+    CHECK(std::abs(twist_deg(tracked)) < 10);
+  }
+  SECTION("a girdle turned 80 deg is turned back to the limit") {
+    const JointPositions start = turn_girdle(truth, 80);
+    TrackParams unlimited;
+    unlimited.max_twist_deg = 180;
+    const JointPositions limited = track(start, {}), free = track(start, unlimited);
+    INFO("twist " << twist_deg(start) << " deg at the start, " << twist_deg(limited)
+                  << " deg tracked, " << twist_deg(free) << " deg without the limit");
+    CHECK(std::abs(twist_deg(limited)) < 62);
+    CHECK(std::abs(twist_deg(free)) > 75);
+  }
 }
 
 namespace {

@@ -8,8 +8,10 @@
 #include "hullpose/pose/body_model.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace hullpose::pose {
 
@@ -51,6 +53,26 @@ void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBo
     const double n = d.norm();
     joints[c] = n > 1e-9 ? Eigen::Vector3d(joints[p] + d * (length_mm[b] / n)) : joints[p];
   }
+}
+
+double torso_twist(const JointPositions& joints) {
+  const Eigen::Vector3d up = joints[index(Joint::Chest)] - joints[index(Joint::LBack)];
+  if (up.squaredNorm() < 1e-12) return 0;
+  const Eigen::Vector3d u = up.normalized();
+  auto across = [&](Joint l, Joint r) {
+    const Eigen::Vector3d d = joints[index(l)] - joints[index(r)];
+    return Eigen::Vector3d(d - d.dot(u) * u);
+  };
+  const Eigen::Vector3d hips = across(Joint::LHip, Joint::RHip);
+  const Eigen::Vector3d shoulders = across(Joint::LSho, Joint::RSho);
+  if (hips.squaredNorm() < 1e-12 || shoulders.squaredNorm() < 1e-12) return 0;
+  return std::atan2(hips.cross(shoulders).dot(u), hips.dot(shoulders));
+}
+
+void swap_arms(JointPositions& joints) {
+  for (auto [l, r] : {std::pair{Joint::LSho, Joint::RSho}, std::pair{Joint::LElb, Joint::RElb},
+                      std::pair{Joint::LHand, Joint::RHand}, std::pair{Joint::LFTip, Joint::RFTip}})
+    std::swap(joints[index(l)], joints[index(r)]);
 }
 
 BodyModel BodyModel::from_stature(double stature_mm) {

@@ -7,10 +7,12 @@
 #endif
 #include "hullpose/pose/hull_tracker.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace hullpose::pose {
 namespace {
@@ -20,6 +22,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bone sampling points for the inside test and pull: the axis at these fractions, both joints
 // included (a joint left outside the hull is as wrong as a bone's middle).
 constexpr std::array<double, 5> kInsideSamples = {0.0, 0.25, 0.5, 0.75, 1.0};
+
+// A girdle turned further than this against the hips has its arms' labels swapped
+// (TrackParams::max_twist_deg).
+constexpr double kSwapTwist = std::numbers::pi / 2;
 
 }  // namespace
 
@@ -228,6 +234,17 @@ void HullTracker::pull_inside(const HullSurface& surface, const JointPositions& 
   }
 }
 
+// Both shoulders are turned back about the spine, through the chest, by the excess.
+void HullTracker::limit_twist(const JointPositions& x) {
+  const double twist = torso_twist(x), limit = params_.max_twist_deg * std::numbers::pi / 180;
+  if (std::abs(twist) <= limit) return;
+  const Eigen::Vector3d& chest = x[index(Joint::Chest)];
+  const Eigen::Vector3d up = (chest - x[index(Joint::LBack)]).normalized();
+  const Eigen::AngleAxisd back(std::copysign(limit, twist) - twist, up);
+  for (Joint j : {Joint::LSho, Joint::RSho})
+    shake_.add_point(j, chest + back * (x[index(j)] - chest), params_.twist_weight);
+}
+
 void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
                       const JointPositions& prior, Detected detected) {
   JointPositions& x = result_.joints;
@@ -278,6 +295,7 @@ void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
           shake_.add_point(j, d, params_.detect_weight);
       }
     }
+    limit_twist(x);
     const JointPositions before = x;
     shake_.solve(x, params_.shake);
     double moved = 0;
@@ -428,6 +446,10 @@ HullScore HullTracker::score(const HullSurface& surface, const BodyModel& model,
 
 const TrackResult& HullTracker::track(const HullSurface& surface, const BodyModel& model,
                                       Detected detected) {
+  if (std::abs(torso_twist(previous_)) > kSwapTwist) {
+    swap_arms(previous_);
+    swap_arms(before_previous_);
+  }
   // Prediction: previous pose plus the damped, capped velocity.
   JointPositions predicted = previous_;
   if (has_velocity_) {
@@ -440,6 +462,10 @@ const TrackResult& HullTracker::track(const HullSurface& surface, const BodyMode
   }
   result_.joints = predicted;
   if (!surface.empty()) fit(surface, model, predicted, detected);
+  if (std::abs(torso_twist(result_.joints)) > kSwapTwist) {
+    swap_arms(result_.joints);
+    swap_arms(previous_);  // the velocity stays per arm
+  }
   measure(surface, model);
   before_previous_ = previous_;
   previous_ = result_.joints;

@@ -10,6 +10,13 @@
 
 namespace hullpose::pose {
 
+// The trunk's axial rotation: the signed angle (radians, right-handed about the spine's up
+// direction LBack -> Chest) from the hip line (RHip -> LHip) to the shoulder line (RSho -> LSho),
+// both projected on the plane across the spine. 0 when either line lies along the spine.
+double torso_twist(const JointPositions& joints);
+// Exchanges the left and right arms (shoulder to finger tip): same positions, labels swapped.
+void swap_arms(JointPositions& joints);
+
 struct BodyModel {
   std::array<double, kNumBones> length_mm{};
   std::array<double, kNumBones> radius_mm{};

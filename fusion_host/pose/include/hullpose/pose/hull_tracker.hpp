@@ -77,6 +77,21 @@ struct TrackParams {
   // by its samples as by as many points; where it has points, they decide. 0.9-1.1 gave the same
   // figures within the tracker's run-to-run spread on the shared clips (make eval).
   double inside_weight = 1;
+  // The shoulder girdle turns about the spine against the hips (torso_twist) by at most
+  // max_twist_deg. The hull cannot hold it there: the chest's capsule is round about the spine,
+  // so an arm's points drag its shoulder round the chest for free, and the arms end up on the
+  // wrong sides (measured on the salsa clip 60_04: the girdle turned by up to 160 deg against the
+  // hips; no subject of the shared clips passes 46). The spine's axial rotation, thoracic and
+  // lumbar together, is about 45 deg in adults; 60 leaves room for the girdle's own travel.
+  // Beyond it both shoulders are pulled back to it with twist_weight (a fully supported joint's
+  // data weight is ~1). A twist beyond 90 deg is the arms' labels, not their positions, being
+  // wrong (the hull cannot tell one arm from the other; anatomy can): the arms are swapped.
+  // Measured and left out (no gain in make eval beyond the tracker's run-to-run spread): a
+  // minimum opening of the girdle seen along the spine (140 deg; it also stopped a shoulder from
+  // following its arm into the hull in test_hull_tracker), a bend limit per spine joint (45 deg)
+  // and a limit on the head's direction against the spine (75 deg).
+  double max_twist_deg = 60;
+  double twist_weight = 1;
   // Weak prior: every joint is also pulled towards its predicted position.
   double prior_weight = 0.05;
   // A bottom-up extremity agrees with the tracked one within this (statures) and then pulls it.
@@ -143,6 +158,8 @@ class HullTracker {
            Detected detected);
   void measure(const HullSurface& surface, const BodyModel& model);
   void pull_inside(const HullSurface& surface, const JointPositions& x, size_t stride);
+  // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
+  void limit_twist(const JointPositions& x);
   // Nearest capsule surface for a point: bone, position along the bone, signed distance.
   struct Hit {
     int bone = -1;
