@@ -306,8 +306,17 @@ TEST_CASE("impose_bone_lengths keeps directions and gives the model's lengths") 
   }
 }
 
-TEST_CASE("One Euro: a still joint is smoothed, a moving one lags less than a frame") {
-  OneEuroFilter still_filter, moving_filter;
+TEST_CASE(
+    "One Euro: off by default; on, a still joint is smoothed, a moving one lags less than "
+    "a frame") {
+  std::array<Eigen::Vector3d, 1> passed{Eigen::Vector3d(1, 2, 3)};
+  OneEuroFilter off;
+  off.apply(passed, 1.0 / 30);
+  passed[0] = Eigen::Vector3d(40, 50, 60);
+  off.apply(passed, 1.0 / 30);
+  CHECK(passed[0] == Eigen::Vector3d(40, 50, 60));
+  const OneEuroParams on{.min_cutoff_hz = 1.5};
+  OneEuroFilter still_filter(on), moving_filter(on);
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 3);
   double raw = 0, filtered = 0;

@@ -131,7 +131,7 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "[--threads N]\n"
       "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
       "ck3|isthmus|endvoxel]\n"
-      "         [--timings FILE] [--pose bottom-up|track]\n"
+      "         [--timings FILE] [--pose bottom-up|track] [--smooth-hz HZ (0: off)]\n"
       "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the "
       "estimates\n"
       "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
@@ -140,7 +140,9 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "body\n"
       "model on the hull with the per-frame bottom-up path for acquisition and recovery, "
       "bottom-up\n"
-      "is that path alone.\n");
+      "is that path alone; --smooth-hz puts a One Euro filter with that cut-off at rest on the "
+      "published\n"
+      "joints (fusion_host/pose/one_euro.hpp says what it costs).\n");
   line.option("--replay", dataset)
       .option("--out", out)
       .option("--timings", timings)
@@ -157,6 +159,13 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       .option("--backend",
               [&](const std::string& v) { options.fusion.backend = gpu::parse_backend(v); })
       .option("--pose", [&](const std::string& v) { options.pose.mode = pose::parse_pose_mode(v); })
+      .option("--smooth-hz",
+              [&](const std::string& v) {
+                const double hz = cli::parse_double("--smooth-hz", v);
+                HULLPOSE_THROW_UNLESS(hz >= 0,
+                                      "--smooth-hz must not be negative (0: off), got " << v);
+                options.pose.filter.min_cutoff_hz = hz;
+              })
       .option("--curve-rule", [&](const std::string& v) {
         if (v == "ck3") {
           options.fusion.curve_rule = thin::CurveRule::kCk3;

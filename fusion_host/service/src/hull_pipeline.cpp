@@ -36,6 +36,7 @@ std::unique_ptr<FramePipeline> make_live_pipeline(const Rig& rig, const Pipeline
   f.backend = gpu::parse_backend(options.backend);
   pose::HullPoseParams p;
   p.mode = pose::parse_pose_mode(options.pose);
+  p.filter.min_cutoff_hz = options.smooth_hz;
   return std::make_unique<HullPipeline>(rig, f, p, nullptr);
 }
 

@@ -28,12 +28,13 @@ constexpr const char* kUsage =
     "first|trigger]\n"
     "    [--max-open N] [--max-clock-skew-ms MS] [--duration-s S] [--ready-file FILE] "
     "[--resolution N]\n"
-    "    [--tolerance K] [--backend auto|cpu|cuda] [--pose bottom-up|track] [--hull-rate HZ (0: "
+    "    [--tolerance K] [--backend auto|cpu|cuda] [--pose bottom-up|track] [--smooth-hz HZ (0: "
     "off)]\n"
+    "    [--hull-rate HZ (0: off)]\n"
     "  or, offline: --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
     "    [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel] "
     "[--timings FILE]\n"
-    "    [--pose bottom-up|track]\n";
+    "    [--pose bottom-up|track] [--smooth-hz HZ (0: off)]\n";
 
 // Empty when --help was asked for.
 std::optional<Options> parse(int argc, const char* const* argv, const char* tool) {
@@ -63,6 +64,7 @@ std::optional<Options> parse(int argc, const char* const* argv, const char* tool
       .option("--tolerance", o.pipeline.tolerance)
       .option("--backend", o.pipeline.backend)
       .option("--pose", o.pipeline.pose)
+      .option("--smooth-hz", o.pipeline.smooth_hz)
       .option("--hull-rate", o.service.hull.rate_hz)
       .option("--deadline-from", [&a](const std::string& v) {
         HULLPOSE_THROW_UNLESS(v == "first" || v == "trigger",
@@ -71,6 +73,8 @@ std::optional<Options> parse(int argc, const char* const* argv, const char* tool
       });
   if (!cl.parse(argc, argv)) return std::nullopt;
   HULLPOSE_THROW_UNLESS(!o.rig_file.empty(), "--rig FILE is required (see --help)");
+  HULLPOSE_THROW_UNLESS(o.pipeline.smooth_hz >= 0,
+                        "--smooth-hz must not be negative (0: off), got " << o.pipeline.smooth_hz);
   HULLPOSE_THROW_UNLESS(
       o.service.hull.rate_hz >= 0 && o.service.hull.rate_hz <= 30,
       "--hull-rate must be in 0..30 hulls per second (0: off), got " << o.service.hull.rate_hz);

@@ -88,6 +88,7 @@ struct PipelineOptions {
   int tolerance = 0;             // --tolerance K: a voxel may be missed by K present cameras
   std::string backend = "auto";  // --backend auto|cpu|cuda (fusion_host/gpu checks it)
   std::string pose = "track";    // --pose bottom-up|track (fusion_host/pose checks it)
+  double smooth_hz = 0;          // --smooth-hz HZ: One Euro cut-off at rest (0: off; pose/one_euro)
 };
 
 // The command line of a fusion host process (--rig FILE, --lcm-url URL, --min-cameras N,
