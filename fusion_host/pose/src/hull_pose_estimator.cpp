@@ -146,9 +146,10 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   out_.joints_mm = r->joints;
   if (jumped) filter_.reset();
   filter_.apply(out_.joints_mm, a.frame_s);
-  // The filter smooths every joint on its own, which changes bone lengths by up to ~1 %: the
-  // published pose keeps the filtered directions and gets the model's lengths back, so every
-  // frame of a held model has exactly its lengths.
+  // The filter (when on, --smooth-hz) smooths every joint on its own, which changes bone lengths
+  // by up to ~1 %, and SHAKE meets them only to its tolerance: the published pose keeps its
+  // directions and gets the model's lengths back, so every frame of a held model has exactly
+  // its lengths.
   impose_bone_lengths(out_.joints_mm, body_.model().length_mm);
   out_.model_version = body_.version();
   last_output_ = out_.joints_mm;
