@@ -42,8 +42,13 @@ TEST_CASE(
   CHECK(few.points().size() <= 50);
   CHECK(few.points().size() >= 40);  // an even stride, not a truncated scan
   CHECK_FALSE(all.touches_edge());
-  CHECK(all.inside(g.centre_mm({8, 8, 8})));
-  CHECK_FALSE(all.inside(g.centre_mm({2, 2, 2})));
+  // A ball rules itself out only when it holds an unset voxel's centre.
+  CHECK_FALSE(all.excludes(g.centre_mm({8, 8, 8}), g.voxel_mm));
+  CHECK(all.excludes(g.centre_mm({2, 2, 2}), 0.1 * g.voxel_mm));
+  const Eigen::Vector3d corner =
+      g.centre_mm({2, 2, 2}) + Eigen::Vector3d::Constant(0.45 * g.voxel_mm);
+  CHECK_FALSE(all.excludes(corner, 0.5 * g.voxel_mm));  // no voxel centre within the ball
+  CHECK(all.excludes(corner, g.voxel_mm));
   // The cube's top face (voxels z 4..11), over its middle and not beside it.
   const Eigen::Vector2d middle = g.centre_mm({8, 8, 0}).head<2>();
   CHECK(all.top_mm(middle, 1.5 * g.voxel_mm) == Approx(g.origin_mm.z() + 12 * g.voxel_mm));
@@ -81,6 +86,29 @@ TEST_CASE("tracking pulls a displaced model back onto the hull of the true pose"
   // The pose that explains the hull scores higher than a displaced one.
   CHECK(tracker.score(surface, model, truth).value() >
         tracker.score(surface, model, start).value());
+}
+
+TEST_CASE("the hull never contradicts the true pose: thin limbs, tips, any voxel size") {
+  // A limb thinner than the voxels can fall between their centres and be carved away, and a tip
+  // joint lies on the body's surface with voxel centres outside the body beside it. Neither is
+  // evidence against the pose: the score samples the capsules' axes, and a sample counts as
+  // outside only where the voxel centre nearest to it is unset and within the capsule's radius.
+  const BodyModel model = BodyModel::from_stature(kStature);
+  const JointPositions truth = stick_figure(kStature, arms_down(), {0, 0, 0, 0});
+  HullTracker tracker;
+  for (int res : {24, 32, 64, 128}) {
+    const VoxelGridSpec g = grid_2m(res);
+    fusion::BitGrid hull;
+    capsule_hull(g, truth, model, hull);
+    HullSurface surface(1000);
+    surface.extract(&hull, g);
+    INFO(res << "^3, voxel " << g.voxel_mm << " mm");
+    CHECK(tracker.score(surface, model, truth).inside == 1.0);
+    // ...while a pose beside the body is contradicted.
+    JointPositions beside = truth;
+    for (auto& p : beside) p.x() += 400;
+    CHECK(tracker.score(surface, model, beside).inside < 0.5);
+  }
 }
 
 TEST_CASE("an arm the previous pose had out in the air is pulled into the hull") {

@@ -9,7 +9,7 @@
 // point's position along the bone; the joints then move towards their targets under SHAKE's
 // bone-length constraints (model_fit.hpp), with the prediction as a weak prior and the
 // bottom-up extremities as point targets where they agree. The other direction, model to hull:
-// every bone sample outside the hull is pulled to the nearest surface point (the hull contains
+// every bone sample the hull rules out is pulled to the nearest surface point (the hull contains
 // the body). A limb the hull shows no surface for (merged into the torso) is kept inside the
 // hull near its predicted place and gets low confidence.
 //
@@ -28,7 +28,8 @@
 namespace hullpose::pose {
 
 // The hull's surface voxels (set, with an unset 6-neighbour), evenly subsampled in scan order to
-// at most `max_points`, as mm positions; plus inside tests for the scoring.
+// at most `max_points`, as mm positions; plus what the hull rules out, for the fit and the
+// scoring.
 class HullSurface {
  public:
   explicit HullSurface(int max_points);
@@ -38,7 +39,9 @@ class HullSurface {
   bool empty() const { return count_ == 0; }
   // Whether the hull reaches a side or the top of the grid (part of the body is outside).
   bool touches_edge() const { return touches_edge_; }
-  bool inside(const Eigen::Vector3d& mm) const;
+  // Whether the hull rules out a ball of radius_mm about `mm` lying inside the body: the nearest
+  // voxel centre is unset and within the ball. No hull: everything is ruled out.
+  bool excludes(const Eigen::Vector3d& mm, double radius_mm) const;
   // Height (mm, z) of the top face of the highest hull voxel whose centre lies within radius_mm
   // of `xy` horizontally; NaN when there is none.
   double top_mm(const Eigen::Vector2d& xy, double radius_mm) const;
@@ -72,10 +75,10 @@ struct TrackParams {
   // A joint's data target weighs support / (support + full_support_points): a joint pulled by a
   // few points moves little.
   double full_support_points = 8;
-  // Every bone sample outside the hull pulls its bone towards the nearest surface point with
-  // this weight (a surface point's is at most 1). 1: a limb with no points of its own is moved
-  // by its samples as by as many points; where it has points, they decide. 0.9-1.1 gave the same
-  // figures within the tracker's run-to-run spread on the shared clips (make eval).
+  // Every bone sample the hull rules out (HullSurface::excludes) pulls its bone towards the nearest
+  // surface point with this weight (a surface point's is at most 1). 1: a limb with no points of
+  // its own is moved by its samples as by as many points; where it has points, they decide. 0.9-1.1
+  // gave the same figures within the tracker's run-to-run spread on the shared clips (make eval).
   double inside_weight = 1;
   // The shoulder girdle turns about the spine against the hips (torso_twist) by at most
   // max_twist_deg. The hull cannot hold it there: the chest's capsule is round about the spine,
@@ -117,7 +120,7 @@ struct TrackParams {
 // How well a pose explains the hull: both directions of the silhouette/hull consistency.
 struct HullScore {
   double explained = 0;  // fraction of surface points within explained_voxels of the model
-  double inside = 0;     // fraction of points sampled along the bones that lie inside the hull
+  double inside = 0;     // fraction of the bones' axis samples the hull does not rule out
   double value() const { return explained * inside; }
 };
 
@@ -157,7 +160,8 @@ class HullTracker {
   void fit(const HullSurface& surface, const BodyModel& model, const JointPositions& prior,
            Detected detected);
   void measure(const HullSurface& surface, const BodyModel& model);
-  void pull_inside(const HullSurface& surface, const JointPositions& x, size_t stride);
+  void pull_inside(const HullSurface& surface, const BodyModel& model, const JointPositions& x,
+                   size_t stride);
   // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
   void limit_twist(const JointPositions& x);
   // Nearest capsule surface for a point: bone, position along the bone, signed distance.
@@ -167,7 +171,8 @@ class HullTracker {
     Eigen::Vector3f axis_point;
   };
   void load_capsules(const BodyModel& model, const JointPositions& pose, double voxel_mm) const;
-  static double inside_fraction(const HullSurface& surface, const JointPositions& pose);
+  static double inside_fraction(const HullSurface& surface, const BodyModel& model,
+                                const JointPositions& pose);
   Hit nearest(const Eigen::Vector3f& p) const;
 
   void measure_lengths(const HullSurface& surface, const BodyModel& model);
