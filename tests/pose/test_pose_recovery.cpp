@@ -102,6 +102,37 @@ TEST_CASE(
   CHECK(recovered_at <= kRecoveryFrames);
 }
 
+TEST_CASE("the bottom-up reading is tried on the second tracker when the two disagree, only then") {
+  // A forearm dropped from folded up to hanging between two frames: the bottom-up reading has
+  // it down, the tracked pose still up. That disagreement makes the stage track the reading on
+  // its second tracker; frames where the two agree (or the reading is invalid) do not pay for it
+  // (a candidate started where the tracked pose is would end there).
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  Limbs down = t_pose();
+  down.l_upper_arm = down.l_forearm = {0.15, 0, -1};
+  Limbs folded = down;
+  folded.l_forearm = {-0.1, 0, 1};
+  HullPoseEstimator stage(stick_params());
+  fusion::BitGrid hull;
+  auto frame = [&](const Limbs& limbs) {
+    const JointPositions truth = stick_figure(kStature, limbs, {0, 0, 0, 0});
+    capsule_hull(g, truth, body, hull);
+    const PoseEstimate& e = stage.estimate(rasterise(g, truth), &hull, g);
+    return mean_displacement(stage.bottom_up().last().joints_mm, e.joints_mm);
+  };
+  for (int f = 0; f < 40; ++f) {
+    const double apart = frame(folded);
+    if (f >= 15) {
+      INFO("frame " << f << ": the readings " << apart << " mm apart");
+      CHECK(stage.bottom_up().last().valid);
+      CHECK_FALSE(stage.checked());
+    }
+  }
+  frame(down);
+  CHECK(stage.checked());
+}
+
 TEST_CASE("every frame of a held body model has its bone lengths, through garbage and recovery") {
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel body = BodyModel::from_stature(kStature);

@@ -76,7 +76,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   }
   StageTimer timer;
   const ArbiterParams& a = params_.arbiter;
-  reacquired_ = false;
+  reacquired_ = checked_ = false;
   out_ = det;  // reason, detail, timings of the bottom-up path; overwritten below when tracking
   surface_.extract(hull, grid);  // nullptr: no surface
   // The body model starts at start_stature() (the bottom-up path's running stature, or the
@@ -99,13 +99,12 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
   const bool have_median = score_median_.count() >= 8;
-  ++frames_since_check_;
-  bool candidate_tried = false;
+  // A disagreement is checked: the tracked pose may be the wrong one (ArbiterParams).
+  const double agree_mm = a.agree_ratio * body_.model().stature_mm();
   if (detected != nullptr && !reacquired_ &&
       (!have_median || r->score.value() < a.check_fraction * median_score_ ||
-       frames_since_check_ >= a.check_every)) {
-    frames_since_check_ = 0;
-    candidate_tried = true;
+       mean_displacement(*detected, r->joints) > agree_mm)) {
+    checked_ = true;
     if (try_candidate(*detected, r->score.value())) {
       reacquired_ = true;
       r = &tracker_.result();
@@ -119,9 +118,10 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   // and a valid detection exists, the tracker was lost: it restarts from the detection, refined
   // on the hull. Tracking adds frames the bottom-up path misses; it never vetoes one it reads.
   if (!tracked_ok && detected != nullptr && !reacquired_) {
-    if (!candidate_tried) {
+    if (!checked_) {
       candidate_.start(*detected);
       candidate_.track(surface_, body_.model(), {detected});
+      checked_ = true;
     }
     tracker_ = candidate_;
     r = &tracker_.result();
@@ -134,8 +134,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   if (good) median_score_ = score_median_.add(score_);
   // The body model learns from confident frames only: the tracked pose explains the hull as well
   // as usual and the independent bottom-up reading agrees with it.
-  const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <
-                                                a.model_agree_ratio * body_.model().stature_mm();
+  const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <= agree_mm;
   if (tracked_ok && agree && score_ >= a.model_fraction * median_score_)
     body_.add(r->lengths, r->radius_mm);
 
