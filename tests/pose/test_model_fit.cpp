@@ -234,6 +234,27 @@ TEST_CASE("a pose jump above tau reuses the previous pose until the next frame c
   CHECK(worst_joint_error(confirmed.joints_mm, b) < 15);
 }
 
+TEST_CASE("a first labelling below the acquisition quality is taken when the next frame agrees") {
+  // acquire_quality above any labelling's rank: every first labelling is one nobody can vouch
+  // for. It is held back; the next frame's, fitted within tau of it, confirms it. A frame far
+  // from the one before (or not the very next one) starts the wait again.
+  const VoxelGridSpec g = grid_2m(128);
+  PoseParams params = stick_params();
+  params.acquire_quality = 1.01;
+  PoseEstimator estimator(params);
+  const JointPositions a = stick_figure(kStature, t_pose(), {0, 0, 0, -300});
+  const JointPositions b = stick_figure(kStature, t_pose(), {0, 0, 0, 300});  // 600 mm away
+  CHECK_FALSE(estimator.estimate(rasterise(g, a), g).valid);
+  CHECK_FALSE(estimator.estimate(rasterise(g, b), g).valid);  // disagrees with a
+  CHECK_FALSE(estimator.estimate({}, g).valid);               // a gap: b is no longer the last
+  CHECK_FALSE(estimator.estimate(rasterise(g, b), g).valid);
+  const PoseEstimate& e = estimator.estimate(rasterise(g, b), g);
+  INFO("detail: " << e.detail);
+  CHECK(e.valid);
+  CHECK(worst_joint_error(e.joints_mm, b) < 15);
+  CHECK(std::abs(e.stature_mm - kStature) < 30);
+}
+
 TEST_CASE("a turning subject stays labelled left and right through a sequence") {
   const VoxelGridSpec g = grid_2m(128);
   PoseEstimator estimator(stick_params());

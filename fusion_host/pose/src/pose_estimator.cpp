@@ -59,11 +59,9 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     reuse(Msg::REASON_INVALID_TREE, tree.why);
     return out_;
   }
-  if (!has_accepted_ && tree.quality < params_.acquire_quality) {
-    reuse(Msg::REASON_INVALID_TREE,
-          "labelling ranks below the quality needed to acquire a first pose");
-    return out_;
-  }
+  // Before the first fresh pose, a labelling below acquire_quality is fitted but held back until
+  // the next frame's agrees with it (the confirmation a pose jump gets below).
+  const bool tentative = !has_accepted_ && tree.quality < params_.acquire_quality;
 
   timer.restart();
   const double frame_stature = fitter_.frame_stature(tree);
@@ -76,13 +74,26 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     reuse(Msg::REASON_INVALID_TREE, "skeleton size implausible for the subject's stature");
     return out_;
   }
-  out_.stature_mm = stature_.add(frame_stature);
-  const FitResult& fit = fitter_.fit(tree, out_.stature_mm);
+  if (!tentative) out_.stature_mm = stature_.add(frame_stature);
+  const FitResult& fit = fitter_.fit(tree, tentative ? frame_stature : out_.stature_mm);
   out_.fit_us = timer.elapsed_us();
   out_.shake_iterations = fit.iterations;
   if (!fit.ok) {
     reuse(Msg::REASON_FIT_FAILED, "model fit did not converge");
     return out_;
+  }
+  if (tentative) {
+    const bool confirmed = has_pending_ && pending_at_ == frames_since_accepted_ - 1 &&
+                           mean_displacement(fit.joints, pending_) <= params_.jump_mean_mm;
+    if (!confirmed) {
+      pending_ = fit.joints;
+      has_pending_ = true;
+      pending_at_ = frames_since_accepted_;
+      reuse(Msg::REASON_INVALID_TREE,
+            "labelling ranks below the quality needed to acquire a first pose");
+      return out_;
+    }
+    out_.stature_mm = stature_.add(frame_stature);
   }
 
   // Paper 6, algorithm 2: a pose that jumps further than tau from the last one is not trusted.

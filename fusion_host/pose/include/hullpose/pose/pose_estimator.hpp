@@ -25,7 +25,8 @@ struct PoseParams {
   // was real), and the check is skipped after `jump_memory_frames` frames without a fresh pose.
   double jump_mean_mm = 150;
   // Until the first fresh pose there is no previous pose to catch a wrong labelling: the tree's
-  // quality must reach this stricter level (TreeParams::min_quality holds afterwards).
+  // quality must reach this stricter level, or the minimum (TreeParams::min_quality, which holds
+  // afterwards) on two consecutive frames whose fitted poses agree within jump_mean_mm.
   double acquire_quality = 0.6;
   int jump_memory_frames = 5;
   // Stature: running median over the valid frames; a frame whose own estimate is off the
@@ -75,9 +76,11 @@ class PoseEstimator {
   TemporalHint hint_;
   JointPositions accepted_{};  // last fresh pose
   std::array<float, kNumJoints> accepted_confidence_{};
-  JointPositions pending_{};  // a rejected jump, kept to confirm against the next frame
+  // A rejected jump, or before the first fresh pose a labelling below acquire_quality, kept to
+  // confirm against the next frame (pending_at_: frames_since_accepted_ when kept).
+  JointPositions pending_{};
   bool has_accepted_ = false, has_pending_ = false;
-  int frames_since_accepted_ = 0;
+  int frames_since_accepted_ = 0, pending_at_ = 0;
   RunningMedian<kStatureWindow> stature_;
 };
 
