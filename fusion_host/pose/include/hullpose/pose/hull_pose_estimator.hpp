@@ -49,10 +49,10 @@ struct ArbiterParams {
   // Without a median yet (acquisition), a score must reach this absolute floor.
   double min_score = 0.5;
   // Body-model measurements come from frames scoring at least this fraction of the median whose
-  // two readings agree (agree_ratio). 0.85 = a
-  // valid frame's floor (valid_fraction): the length evidence is robust-weighted and carries its
-  // own information, so every frame good enough to publish may add to it (1.0, the median,
-  // kept half of them and held the model only after 3.5-7 s on 55_01, 01_01 and 131_02).
+  // two readings agree (agree_ratio). 0.85 = a valid frame's floor (valid_fraction): the length
+  // evidence is robust-weighted and carries its own information, so every frame good enough to
+  // publish may add to it (1.0, the median, kept half of them and held the model only after
+  // 3.5-7 s on 55_01, 01_01 and 131_02).
   double model_fraction = 0.85;
   double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
 };
