@@ -129,7 +129,9 @@ TEST_CASE("the bottom-up reading is tried on the second tracker when the two dis
       CHECK_FALSE(stage.checked());
     }
   }
-  frame(down);
+  const double apart = frame(down);
+  INFO("the readings " << apart << " mm apart after the drop");
+  CHECK(apart > HullPoseParams{}.arbiter.agree_ratio * kStature);
   CHECK(stage.checked());
 }
 
