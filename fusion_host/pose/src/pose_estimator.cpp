@@ -42,6 +42,17 @@ void PoseEstimator::reuse(int8_t reason, const char* detail) {
   HULLPOSE_LOG(Pose, Debug) << "frame not fresh: " << detail;
 }
 
+bool PoseEstimator::confirms_pending(const JointPositions& pose) const {
+  return has_pending_ && mean_displacement(pose, pending_) <= params_.jump_mean_mm;
+}
+
+void PoseEstimator::hold_back(const JointPositions& pose, int8_t reason, const char* detail) {
+  pending_ = pose;
+  has_pending_ = true;
+  pending_at_ = frames_since_accepted_;
+  reuse(reason, detail);
+}
+
 const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton,
                                             const VoxelGridSpec& grid) {
   ++frames_since_accepted_;
@@ -83,14 +94,9 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     return out_;
   }
   if (tentative) {
-    const bool confirmed = has_pending_ && pending_at_ == frames_since_accepted_ - 1 &&
-                           mean_displacement(fit.joints, pending_) <= params_.jump_mean_mm;
-    if (!confirmed) {
-      pending_ = fit.joints;
-      has_pending_ = true;
-      pending_at_ = frames_since_accepted_;
-      reuse(Msg::REASON_INVALID_TREE,
-            "labelling ranks below the quality needed to acquire a first pose");
+    if (pending_at_ != frames_since_accepted_ - 1 || !confirms_pending(fit.joints)) {
+      hold_back(fit.joints, Msg::REASON_INVALID_TREE,
+                "labelling ranks below the quality needed to acquire a first pose");
       return out_;
     }
     out_.stature_mm = stature_.add(frame_stature);
@@ -98,15 +104,10 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
 
   // Paper 6, algorithm 2: a pose that jumps further than tau from the last one is not trusted.
   if (has_accepted_ && frames_since_accepted_ <= params_.jump_memory_frames &&
-      mean_displacement(fit.joints, accepted_) > params_.jump_mean_mm) {
-    const bool confirmed =
-        has_pending_ && mean_displacement(fit.joints, pending_) <= params_.jump_mean_mm;
-    if (!confirmed) {
-      pending_ = fit.joints;
-      has_pending_ = true;
-      reuse(Msg::REASON_POSE_JUMP, "pose jumped from the previous frame");
-      return out_;
-    }
+      mean_displacement(fit.joints, accepted_) > params_.jump_mean_mm &&
+      !confirms_pending(fit.joints)) {
+    hold_back(fit.joints, Msg::REASON_POSE_JUMP, "pose jumped from the previous frame");
+    return out_;
   }
   has_pending_ = false;
   has_accepted_ = true;

@@ -68,6 +68,10 @@ class PoseEstimator {
 
  private:
   void reuse(int8_t reason, const char* detail);
+  // A pose nobody vouches for yet (a jump, or a first labelling below acquire_quality): kept as
+  // pending_ and the frame reported not fresh; a later pose within jump_mean_mm confirms it.
+  void hold_back(const JointPositions& pose, int8_t reason, const char* detail);
+  bool confirms_pending(const JointPositions& pose) const;
 
   PoseParams params_;
   PoseTreeBuilder builder_;
