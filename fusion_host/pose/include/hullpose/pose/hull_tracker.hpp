@@ -50,6 +50,12 @@ class HullSurface {
  private:
   std::vector<Eigen::Vector3f> points_;
   size_t count_ = 0;
+  // One grid word's surface voxels (x0: the word's first x).
+  struct SurfaceWord {
+    uint64_t bits;
+    int x0, y, z;
+  };
+  std::vector<SurfaceWord> words_;  // the frame's non-empty surface words, sized to the grid
   bool touches_edge_ = false;
   const fusion::BitGrid* hull_ = nullptr;
   VoxelGridSpec grid_;
@@ -146,7 +152,8 @@ class HullTracker {
   struct Detected {
     const JointPositions* joints = nullptr;
   };
-  // One frame: predict, fit to `surface`, score. Keeps the result as the new state.
+  // One frame: predict, fit to `surface` (of at most TrackParams::max_points points), score.
+  // Keeps the result as the new state.
   const TrackResult& track(const HullSurface& surface, const BodyModel& model, Detected detected);
   // Whether track() also computes the length evidence (the body model needs it only until it
   // is held; it costs ~100 multiply-adds per surface point).
@@ -164,18 +171,21 @@ class HullTracker {
                    size_t stride);
   // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
   void limit_twist(const JointPositions& x);
-  // Nearest capsule surface for a point: bone, position along the bone, signed distance.
+  // Nearest capsule surface for a point: bone, position along the bone's axis, signed distance.
   struct Hit {
-    int bone = -1;
+    int bone = 0;
     double t = 0, distance = 0;
-    Eigen::Vector3f axis_point;
   };
   void load_capsules(const BodyModel& model, const JointPositions& pose, double voxel_mm) const;
   static double inside_fraction(const HullSurface& surface, const BodyModel& model,
                                 const JointPositions& pose);
-  Hit nearest(const Eigen::Vector3f& p) const;
+  // The hits of points 0, stride, 2 stride, ... against the loaded capsules, in hits_.
+  std::span<const Hit> nearest_all(std::span<const Eigen::Vector3f> points, size_t stride) const;
+  Eigen::Vector3f axis_point(const Hit& h) const;
 
-  void measure_lengths(const HullSurface& surface, const BodyModel& model);
+  // From measure()'s hits of every surface point.
+  void measure_lengths(const HullSurface& surface, const BodyModel& model,
+                       std::span<const Hit> hits);
 
   TrackParams params_;
   Shake shake_;
@@ -183,12 +193,13 @@ class HullTracker {
   JointPositions previous_{}, before_previous_{};
   bool has_velocity_ = false;
   TrackResult result_;
-  // Capsules of the current pose, structure of arrays so the per-point loop over the 24 bones
-  // vectorises (it is most of the stage's time: points x bones x iterations).
+  // Capsules of the current pose, structure of arrays: nearest_all broadcasts one capsule to 16
+  // points at a time (points x bones x iterations: the tracker's largest loop).
   struct Capsules {
     alignas(32) std::array<float, kNumBones> ax, ay, az, bx, by, bz, inv_len2, radius;
   };
   mutable Capsules cap_{};
+  mutable std::vector<Hit> hits_;  // max_points, for nearest_all
   std::array<double, kNumJoints> support_{};
   std::array<Eigen::Vector3d, kNumJoints> pull_{};
   std::array<int, kNumBones> bone_points_{};

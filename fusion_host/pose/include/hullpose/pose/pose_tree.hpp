@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "hullpose/common/voxel_grid.hpp"
+#include "hullpose/fusion/bit_grid.hpp"
 
 namespace hullpose::pose {
 
@@ -188,6 +189,7 @@ class PoseTreeBuilder {
   LabelledTree tree_;
   VoxelGridSpec grid_;
   std::vector<int32_t> lookup_;  // grid index -> input voxel index, -1 elsewhere
+  fusion::BitGrid occupied_;     // the voxels of lookup_ that are set
   std::vector<int32_t> neighbour_begin_, neighbours_;  // per input voxel: its 26-neighbours (CSR)
   std::vector<int32_t> component_;                     // per input voxel: connected component
   std::vector<int32_t> depth_;    // per input voxel: breadth-first depth from the root
@@ -197,7 +199,8 @@ class PoseTreeBuilder {
   std::vector<uint8_t> alive_;
   std::vector<int32_t> degree_;
   std::vector<double> dist_;
-  std::vector<int32_t> via_;  // parent in the last distances_from() traversal
+  std::vector<int32_t> via_;   // parent in the last distances_from() traversal
+  std::vector<int32_t> hops_;  // and the number of steps from its source
   std::vector<int32_t> queue_;
   std::vector<uint8_t> mark_;
   std::vector<Branch> branches_;
