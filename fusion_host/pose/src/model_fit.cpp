@@ -95,7 +95,8 @@ double Shake::target_distance(Joint j, const Eigen::Vector3d& p) const {
   return weights > 0 ? sum / weights : 0;
 }
 
-// One Gauss-Seidel sweep of algorithm 1 over all bones; returns the largest length error seen.
+// One Gauss-Seidel sweep of algorithm 1 over all bones.
+template <bool kMeasure>
 double Shake::sweep_bones(JointPositions& x,
                           const std::array<Eigen::Vector3d, kNumBones>& reference) const {
   double worst = 0;
@@ -104,7 +105,7 @@ double Shake::sweep_bones(JointPositions& x,
     const Eigen::Vector3d r = x[p] - x[c];
     const double l = length_[b];
     const double sigma = r.squaredNorm() - l * l;  // the holonomic constraint, eq. 1
-    worst = std::max(worst, std::abs(r.norm() - l));
+    if constexpr (kMeasure) worst = std::max(worst, std::abs(r.norm() - l));
     // Lagrange factor from sigma'' = 0 to first order; the reference vector is the bone before
     // this iteration's unconstrained move, unless that move turned it by more than ~60 degrees.
     Eigen::Vector3d ref = reference[b];
@@ -145,7 +146,7 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
     }
     // A few sweeps per step are enough: the next step starts from nearly rigid bones, and the
     // final pass below makes them exact.
-    for (int s = 0; s < params.sweeps_per_iteration; ++s) sweep_bones(x, reference);
+    for (int s = 0; s < params.sweeps_per_iteration; ++s) sweep_bones<false>(x, reference);
     result.iterations = it + 1;
     // Converged when the pose settles: the pseudo-constraints pull against each other and
     // against the bones, so their pulls never vanish, but the equilibrium stops moving.
@@ -158,7 +159,7 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
   result.max_bone_error_mm = 0;
   for (int s = 0; s < params.max_bone_sweeps * params.final_sweep_factor; ++s) {
     take_reference();
-    if (sweep_bones(x, reference) < params.bone_tolerance_mm) break;
+    if (sweep_bones<true>(x, reference) < params.bone_tolerance_mm) break;
   }
   for (int b = 0; b < kNumBones; ++b) {
     const double l = (x[index(kBones[b].parent)] - x[index(kBones[b].child)]).norm();

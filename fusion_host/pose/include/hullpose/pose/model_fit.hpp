@@ -69,6 +69,9 @@ class Shake {
     bool is_point = false;
     double weight = 1;
   };
+  // One Gauss-Seidel sweep over the bones; with kMeasure, returns the largest length error seen
+  // before the sweep (the sweeps within an iteration do not need it: a square root per bone).
+  template <bool kMeasure>
   double sweep_bones(JointPositions& joints,
                      const std::array<Eigen::Vector3d, kNumBones>& reference) const;
 
