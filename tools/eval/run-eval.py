@@ -85,9 +85,14 @@ def read_rows(path, valid_only):
 
 def jitter_rms(est_csv, settle_frames=60):
     """RMS deviation of every joint from its mean over the valid frames (mm): a still subject.
-    The first settle_frames (2 s at 30 fps: the body model's convergence window, BodyModelParams)
-    are left out: the model settling is not jitter."""
-    rows = [r for f, r in sorted(read_rows(est_csv, True).items()) if f >= settle_frames]
+    The body model settling is not jitter: the frames before its first held model (the
+    estimates' model column, skeleton_t.model_version >= 1) are left out, or for estimates that
+    hold none (the bottom-up path) the first settle_frames (2 s at 30 fps, BodyModelParams'
+    convergence window)."""
+    with open(est_csv) as f:
+        held = [int(r["frame"]) for r in csv.DictReader(f) if int(r.get("model") or 0) >= 1]
+    start = min(held) if held else settle_frames
+    rows = [r for f, r in sorted(read_rows(est_csv, True).items()) if f >= start]
     if len(rows) < 2:
         return None
     n = len(rows[0]) // 3

@@ -49,12 +49,14 @@ Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen
 void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBones>& length_mm);
 
 // One frame's Gauss-Newton evidence on the 24 bone lengths: the normal equations (hessian =
-// sum of w J J^T, gradient = sum of w r J) of the robust distances r of the hull's surface points
-// to their capsules, J = dr/dlength with the pose's joint directions held (a longer bone moves
-// everything beyond it along itself), linearised at the lengths `at_mm`, the pose's translation
-// eliminated. A straight limb shows only its total length (at the cap), a bent one the split: the
-// hessian says what a frame measures, so frames that show nothing about a bone do not dilute
-// those that do (a running mean of per-frame lengths would pull everything to the prior).
+// sum of w J J^T, gradient = sum of w r J) of the fit's residuals r in both directions (the
+// robust distances of the hull's surface points to their capsules, and of the capsule axis
+// samples the hull rules out to the nearest surface point), J = dr/dlength with the pose's joint
+// directions held (a longer bone moves everything beyond it along itself), linearised at the
+// lengths `at_mm`, the pose's translation eliminated. A straight limb shows only its total length
+// (at the cap), a bent one the split: the hessian says what a frame measures, so frames that show
+// nothing about a bone do not dilute those that do (a running mean of per-frame lengths would pull
+// everything to the prior).
 struct LengthEvidence {
   using Matrix = Eigen::Matrix<double, kNumBones, kNumBones>;
   using Vector = Eigen::Matrix<double, kNumBones, 1>;

@@ -169,6 +169,9 @@ class HullTracker {
   void measure(const HullSurface& surface, const BodyModel& model);
   void pull_inside(const HullSurface& surface, const BodyModel& model, const JointPositions& x,
                    size_t stride);
+  // The surface point nearest to `mm` among points 0, stride, 2 stride, ... (at least one).
+  static Eigen::Vector3d nearest_point(std::span<const Eigen::Vector3f> points,
+                                       const Eigen::Vector3d& mm, size_t stride);
   // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
   void limit_twist(const JointPositions& x);
   // Nearest capsule surface for a point: bone, position along the bone's axis, signed distance.
