@@ -292,6 +292,39 @@ TEST_CASE("the body model converges to what the frames measure, then is held") {
   for (int b = 0; b < kNumBones; ++b) CHECK(est.model().length_mm[b] == held.length_mm[b]);
 }
 
+TEST_CASE("a frame's length evidence pulls in a bone that reaches beyond the hull") {
+  // A forearm 30 % too long: the hand it carries sticks out where the hull has no volume. No
+  // surface point lies out there, so the surface points' half of the evidence cannot say
+  // "shorter"; the capsule axis samples the hull rules out can (HullTracker::measure_lengths).
+  const VoxelGridSpec g = grid_2m(128);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  const JointPositions truth = stick_figure(kStature, arms_down(), {0, 0, 0, 0});
+  fusion::BitGrid hull;
+  capsule_hull(g, truth, body, hull);
+  HullSurface surface(1000);
+  surface.extract(&hull, g);
+  const int forearm = 8;  // RElb -> RHand: held forward, its extension is in the air
+  BodyModel long_arm = body;
+  long_arm.length_mm[forearm] *= 1.3;
+  JointPositions pose = truth;
+  impose_bone_lengths(pose, long_arm.length_mm);
+  TrackParams params;
+  params.iterations = 0;  // the evidence at this pose, not at a fit of it
+  HullTracker tracker(params);
+  tracker.set_measure_lengths(true);
+  tracker.start(pose);
+  const LengthEvidence& e = tracker.track(surface, long_arm, {}).lengths;
+  REQUIRE(e.measured);
+  CHECK(e.hessian(forearm, forearm) > 1);  // the frame measures that length (~0 without the half)
+  // The frame's Gauss-Newton step on that length, the others held.
+  const double step = -e.gradient(forearm) / e.hessian(forearm, forearm);
+  const double excess = long_arm.length_mm[forearm] - body.length_mm[forearm];
+  INFO("forearm " << long_arm.length_mm[forearm] << " mm, true " << body.length_mm[forearm]
+                  << ", step " << step);
+  CHECK(step < -0.3 * excess);
+  CHECK(step > -1.5 * excess);
+}
+
 TEST_CASE("a subject seen in few confident frames is held after hold_after_frames") {
   BodyModelParams p;
   BodyModelEstimator est(p);
