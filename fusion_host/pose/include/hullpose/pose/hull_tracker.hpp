@@ -156,7 +156,8 @@ class HullTracker {
   // Keeps the result as the new state.
   const TrackResult& track(const HullSurface& surface, const BodyModel& model, Detected detected);
   // Whether track() also computes the length evidence (the body model needs it only until it
-  // is held; it costs ~100 multiply-adds per surface point).
+  // is held; it costs ~100 multiply-adds per surface point, and a nearest-point search per
+  // capsule axis sample the hull rules out).
   void set_measure_lengths(bool on) { measure_lengths_ = on; }
   // Scores any pose against the surface with this tracker's capsules (no state change).
   HullScore score(const HullSurface& surface, const BodyModel& model,
