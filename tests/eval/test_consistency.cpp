@@ -46,6 +46,7 @@ TEST_CASE("the ground truth as the estimate: 100 % inside, steady bones") {
   CHECK(r.inside_all_pct == 100);
   CHECK(r.frames_n_minus_1_pct == 100);
   for (const CameraAgreement& c : r.cameras) CHECK(c.inside_pct == 100);
+  for (double b : r.bone_inside_all_pct) CHECK(b == 100);
   CHECK(r.bone_cv_mean < 1e-4);  // only the file's 0.001 mm rounding
   CHECK(r.jitter_mean_mm < 15);  // a smooth walk
 }
@@ -69,6 +70,25 @@ TEST_CASE("a displaced or stretched skeleton scores worse") {
   CHECK(z.inside_all_pct < good.inside_all_pct);
   CHECK(z.bone_cv_mean > 0.05);
   CHECK(z.jitter_mean_mm > good.jitter_mean_mm + 30);
+  // One hand 250 mm out to the side: its forearm leaves the silhouettes, the other stays inside.
+  std::vector<PoseRecord> arm = truth();
+  for (PoseRecord& p : arm) {
+    const Eigen::Vector3d out = (p.joints[static_cast<size_t>(index(Joint::LSho))] -
+                                 p.joints[static_cast<size_t>(index(Joint::Chest))])
+                                    .normalized();
+    for (Joint j : {Joint::LHand, Joint::LFTip})
+      p.joints[static_cast<size_t>(index(j))] += 250 * out;
+  }
+  const ConsistencyResult a = evaluate_consistency(dataset() / "data", arm);
+  auto bone = [](Joint child) {
+    for (int b = 0; b < kNumBones; ++b)
+      if (kBones[static_cast<size_t>(b)].child == child) return static_cast<size_t>(b);
+    FAIL("no bone ends at that joint");
+    return size_t{0};
+  };
+  CHECK(a.bone_inside_all_pct[bone(Joint::LHand)] < 70);
+  CHECK(a.bone_inside_all_pct[bone(Joint::RHand)] == 100);
+  CHECK(bone_key(static_cast<int>(bone(Joint::LHand))) == "LElb-LHand");
   // Invalid frames are not scored but count against valid %.
   std::vector<PoseRecord> half = truth();
   for (size_t i = 0; i < half.size(); i += 2) half[i].valid = false;
@@ -93,7 +113,9 @@ TEST_CASE("hullpose-eval scores against the silhouettes when the dataset has no 
               "hullpose-eval", 8, argv,
               [&o](int c, const char* const* v) { return run_cli(c, v, o); }, e) == 0);
   CHECK_THAT(o.str(), Catch::Contains("\"mode\":\"consistency\"") &&
-                          Catch::Contains("\"inside_all_views_pct\":100.0"));
+                          Catch::Contains("\"inside_all_views_pct\":100.0") &&
+                          Catch::Contains("\"LElb-LHand\":100.0") &&
+                          Catch::Contains("\"RElb-RHand\":100.0"));
   CHECK(fs::exists(out.path / "report" / "report.html"));
   int pictures = 0;
   for (const auto& entry : fs::directory_iterator(out.path / "report"))

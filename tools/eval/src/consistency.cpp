@@ -59,15 +59,25 @@ bool inside(const CameraModel& cam, const cv::Mat& mask, const Eigen::Vector3d& 
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> bone_points(const JointPositions& joints, double step_mm) {
+std::vector<Eigen::Vector3d> bone_points(const JointPositions& joints, double step_mm,
+                                         std::vector<int>* bone_of) {
   std::vector<Eigen::Vector3d> out;
-  for (const Bone& b : kBones) {
+  if (bone_of != nullptr) bone_of->clear();
+  for (int bone = 0; bone < kNumBones; ++bone) {
+    const Bone& b = kBones[static_cast<size_t>(bone)];
     const Eigen::Vector3d& a = at(joints, b.parent);
     const Eigen::Vector3d& c = at(joints, b.child);
     const int n = std::max(1, static_cast<int>(std::ceil((c - a).norm() / step_mm)));
     for (int i = 0; i <= n; ++i) out.push_back(a + (c - a) * (static_cast<double>(i) / n));
+    if (bone_of != nullptr) bone_of->insert(bone_of->end(), static_cast<size_t>(n) + 1, bone);
   }
   return out;
+}
+
+std::string bone_key(int bone) {
+  const Bone& b = kBones[static_cast<size_t>(bone)];
+  return std::string(kJointNames[static_cast<size_t>(index(b.parent))]) + "-" +
+         std::string(kJointNames[static_cast<size_t>(index(b.child))]);
 }
 
 ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
@@ -91,6 +101,8 @@ ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
   std::vector<size_t> cam_points(ncam, 0), cam_inside(ncam, 0);
   std::vector<int> cam_frames(ncam, 0);
   size_t inside_all = 0;
+  std::array<size_t, kNumBones> bone_n{}, bone_inside{};
+  std::vector<int> bone_of;
   int frames_ok = 0;
   FrameMasks fm;
   std::vector<std::vector<double>> lengths(kNumBones);
@@ -102,7 +114,7 @@ ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
     for (size_t b = 0; b < kBones.size(); ++b)
       lengths[b].push_back((at(e.joints, kBones[b].child) - at(e.joints, kBones[b].parent)).norm());
     fm.load(paths, rig, e.frame, kernel);
-    const std::vector<Eigen::Vector3d> pts = bone_points(e.joints, o.sample_step_mm);
+    const std::vector<Eigen::Vector3d> pts = bone_points(e.joints, o.sample_step_mm, &bone_of);
     int present = 0;
     for (size_t c = 0; c < ncam; ++c) present += !fm.masks[c].empty();
     if (present == 0) continue;
@@ -110,7 +122,8 @@ ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
     bool frame_ok = true;
     size_t frame_inside = 0;
     for (size_t c = 0; c < ncam; ++c) cam_frames[c] += !fm.masks[c].empty();
-    for (const Eigen::Vector3d& p : pts) {
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const Eigen::Vector3d& p = pts[k];
       int in = 0;
       for (size_t c = 0; c < ncam; ++c) {
         if (fm.masks[c].empty()) continue;
@@ -120,6 +133,8 @@ ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
         in += hit;
       }
       frame_inside += in == present;
+      ++bone_n[static_cast<size_t>(bone_of[k])];
+      bone_inside[static_cast<size_t>(bone_of[k])] += in == present;
       frame_ok = frame_ok && in >= present - 1;
     }
     inside_all += frame_inside;
@@ -132,6 +147,8 @@ ConsistencyResult evaluate_consistency(const std::filesystem::path& dataset,
   r.inside_all_pct = pct(inside_all, r.points);
   r.frames_n_minus_1_pct =
       pct(static_cast<size_t>(frames_ok), static_cast<size_t>(r.scored_frames));
+  for (size_t b = 0; b < kBones.size(); ++b)
+    r.bone_inside_all_pct[b] = pct(bone_inside[b], bone_n[b]);
   for (size_t c = 0; c < ncam; ++c)
     r.cameras.push_back(
         {rig.cameras[c].id, cam_points[c], pct(cam_inside[c], cam_points[c]), cam_frames[c]});

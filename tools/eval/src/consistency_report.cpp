@@ -48,8 +48,11 @@ void write_consistency_json(std::ostream& out, const ConsistencyResult& r) {
   for (const CameraAgreement& c : r.cameras)
     j["inside_pct_per_camera"][std::to_string(c.camera_id)] = number(c.inside_pct);
   j["bone_length_cv_mean"] = number(r.bone_cv_mean);
-  for (size_t b = 0; b < kBones.size(); ++b)
-    j["bone_length_cv"][std::string(kBones[b].name)] = number(r.bone_cv[b]);
+  for (int b = 0; b < kNumBones; ++b) {
+    j["bone_length_cv"][bone_key(b)] = number(r.bone_cv[static_cast<size_t>(b)]);
+    j["bone_inside_all_views_pct"][bone_key(b)] =
+        number(r.bone_inside_all_pct[static_cast<size_t>(b)]);
+  }
   j["jitter_mean_mm"] = number(r.jitter_mean_mm);
   for (size_t i = 0; i < kNumJoints; ++i) {
     j["jitter_mm"][std::string(kJointNames[i])] = number(r.jitter_mm[i]);
@@ -73,6 +76,11 @@ void write_consistency_table(std::ostream& out, const ConsistencyResult& r,
   for (const CameraAgreement& c : r.cameras)
     out << "    camera " << std::setw(2) << c.camera_id << "  " << std::setw(6)
         << fixed(c.inside_pct) << " % (" << c.frames << " frames)\n";
+  out << "  per bone: inside every view %, length CV %\n";
+  for (int b = 0; b < kNumBones; ++b)
+    out << "    " << std::left << std::setw(12) << bone_key(b) << std::right << std::setw(8)
+        << fixed(r.bone_inside_all_pct[static_cast<size_t>(b)]) << std::setw(8)
+        << fixed(100 * r.bone_cv[static_cast<size_t>(b)], 2) << '\n';
   out << "  per joint: speed mm/frame, jitter mm\n";
   for (size_t i = 0; i < kNumJoints; ++i)
     out << "    " << std::left << std::setw(8) << kJointNames[i] << std::right << std::setw(8)

@@ -7,7 +7,8 @@
 //    included) projected into each camera that has a mask for the frame; a point is inside when
 //    the mask has foreground within tolerance_px of its pixel. Reported: the share of points
 //    inside every present view, per camera, and the share of frames in which every point is
-//    inside at least n - 1 of the n present views (one camera may disagree).
+//    inside at least n - 1 of the n present views (one camera may disagree); and per bone, the
+//    share of its points inside every present view (which limb leaves the silhouettes).
 //  - bone-length coefficient of variation (std / mean over valid frames, per bone): a body's
 //    bones do not stretch.
 //  - per-joint speed (mean |p(t) - p(t-1)|, mm per frame) and jitter (mean |p(t+1) - 2 p(t) +
@@ -16,6 +17,7 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "hullpose/common/dataset.hpp"
@@ -48,7 +50,8 @@ struct ConsistencyResult {
   double inside_all_pct = 0;        // points inside every present view
   double frames_n_minus_1_pct = 0;  // frames whose every point is inside >= n-1 present views
   std::vector<CameraAgreement> cameras;
-  std::array<double, kNumBones> bone_cv{};  // NaN with fewer than 2 valid frames
+  std::array<double, kNumBones> bone_inside_all_pct{};  // NaN without scored frames
+  std::array<double, kNumBones> bone_cv{};              // NaN with fewer than 2 valid frames
   double bone_cv_mean = 0;
   std::array<double, kNumJoints> speed_mm{};
   std::array<double, kNumJoints> jitter_mm{};
@@ -58,8 +61,14 @@ struct ConsistencyResult {
   std::vector<int> picture_frames;           // chosen for the report
 };
 
-// Points along the bones of one pose (mm), `step_mm` apart at most, joints included.
-std::vector<Eigen::Vector3d> bone_points(const JointPositions& joints, double step_mm);
+// Points along the bones of one pose (mm), `step_mm` apart at most, joints included, bone by bone
+// in kBones order; `bone_of`, if given, gets each point's bone index.
+std::vector<Eigen::Vector3d> bone_points(const JointPositions& joints, double step_mm,
+                                         std::vector<int>* bone_of = nullptr);
+
+// A bone's key in the reports, unique where kBones' names are not (left and right): its joints'
+// names, "LSho-LElb".
+std::string bone_key(int bone);
 
 // Reads rig.yaml, meta.json and the masks (cam<ID>/mask_*.png; a missing or unreadable mask is
 // that camera absent for that frame). Throws hullpose::Error on an unreadable rig or meta.json.
