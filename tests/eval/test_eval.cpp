@@ -292,8 +292,8 @@ TEST_CASE("invalid and missing frames are counted, not scored and not dropped") 
                          (dir.path / "est.csv").string(), "--report", (dir.path / "rep").string()});
   REQUIRE(table.status == 0);
   const std::string csv = slurp(dir.path / "rep" / "per_frame.csv");
-  CHECK(csv.find("\n0,missing,,,,,,,,,,,,,,\n") != std::string::npos);
-  CHECK(csv.find("\n10,invalid,pose_jump,,,,,,,,,,,,,\n") != std::string::npos);
+  CHECK(csv.find("\n0,missing,,,,,,,,,,,,,,,1\n") != std::string::npos);
+  CHECK(csv.find("\n10,invalid,pose_jump,,,,,,,,,,,,,,1\n") != std::string::npos);
   CHECK(csv.find("\n12,scored,ok,0.000,") != std::string::npos);
   CHECK(std::regex_search(table.out, std::regex(R"(missing from the estimate file +5\n)")));
   CHECK(table.out.find("pose_jump=2") != std::string::npos);
@@ -456,6 +456,16 @@ TEST_CASE("frames whose true body leaves the capture volume are counted apart") 
   CHECK(r.out_of_volume_mpjpe_mm == Approx(0).margin(1e-9));  // scored ones are right here
   CHECK(r.valid_pct == Approx(100));
   CHECK(r.invalid_frames == 0);
+  // per_frame.csv marks each frame in or out of the volume (its last column).
+  TempDir dir("volume");
+  write_per_frame_csv(dir.path / "per_frame.csv", r);
+  const std::string csv = slurp(dir.path / "per_frame.csv");
+  CHECK(csv.rfind("frame,status,", 0) == 0);
+  CHECK(std::regex_search(csv, std::regex(",in_volume\n")));
+  size_t out_rows = 0;
+  for (size_t at = csv.find(",0\n"); at != std::string::npos; at = csv.find(",0\n", at + 1))
+    ++out_rows;
+  CHECK(out_rows == static_cast<size_t>(kFrames - inside));
   // Without a volume every frame counts.
   CHECK(evaluate(truth, est, walking_meta(kFrames, kStature)).frames == kFrames);
 }

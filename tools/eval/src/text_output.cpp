@@ -155,7 +155,7 @@ void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r)
   HULLPOSE_THROW_UNLESS(out, path.string() << ": cannot write");
   out << "frame,status,reason,mean_mm,extremity_mm,hands_feet_mm,abs_x_mm,abs_y_mm,abs_z_mm,"
          "bias_x_mm,bias_y_mm,bias_z_mm,lr_arms_correct,lr_legs_correct,stature_gt_mm,stature_est_"
-         "mm\n";
+         "mm,in_volume\n";
   for (const FrameResult& f : r.per_frame) {
     out << f.frame << ',' << to_string(f.status) << ','
         << (f.status == FrameStatus::Missing ? "" : msg::reason_name(f.reason));
@@ -166,7 +166,7 @@ void write_per_frame_csv(const std::filesystem::path& path, const EvalResult& r)
       out << ',' << fixed(v, 3, "");
     out << ',' << (scored ? (f.lr_arms_correct ? "1" : "0") : "") << ','
         << (scored ? (f.lr_legs_correct ? "1" : "0") : "") << ',' << fixed(f.stature_gt_mm, 3, "")
-        << ',' << fixed(f.stature_est_mm, 3, "") << '\n';
+        << ',' << fixed(f.stature_est_mm, 3, "") << ',' << (f.in_volume ? '1' : '0') << '\n';
   }
   HULLPOSE_THROW_UNLESS(out, path.string() << ": write failed");
 }
