@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace hullpose::pose {
@@ -53,6 +54,59 @@ void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBo
     const double n = d.norm();
     joints[c] = n > 1e-9 ? Eigen::Vector3d(joints[p] + d * (length_mm[b] / n)) : joints[p];
   }
+}
+
+JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, double yaw) {
+  // Each bone's direction from its parent joint, x forward, y to the subject's left, z up.
+  auto direction = [](Joint child) -> Eigen::Vector3d {
+    switch (child) {
+      case Joint::Neck:
+      case Joint::Head:
+      case Joint::HeadTop:
+        return {0, 0, 1};
+      case Joint::LSho:
+      case Joint::RSho:
+        return {0, 1, -0.25};  // the clavicles slope down to the shoulders
+      case Joint::LElb:
+      case Joint::RElb:
+      case Joint::LHand:
+      case Joint::RHand:
+        return {0, 0.1, -1};  // hanging, clear of the trunk
+      case Joint::LHip:
+      case Joint::RHip:
+        return {0, 1, -0.8};
+      case Joint::LFoot:
+      case Joint::RFoot:
+        return {1, 0, -0.6};  // ankle to the ball of the foot
+      case Joint::LToe:
+      case Joint::RToe:
+        return {1, 0, 0};
+      default:  // the spine from the chest down, the legs, the hands
+        return {0, 0, -1};
+    }
+  };
+  JointPositions p{};
+  for (int b = 0; b < kNumBones; ++b) {  // kBones lists parents before children
+    const Joint child = kBones[b].child;
+    Eigen::Vector3d d = direction(child);
+    for (Joint r : {Joint::RSho, Joint::RElb, Joint::RHand, Joint::RFTip, Joint::RHip, Joint::RKne,
+                    Joint::RAnk, Joint::RFoot, Joint::RToe})
+      if (child == r) d.y() = -d.y();
+    p[index(child)] = p[index(kBones[b].parent)] + model.length_mm[b] * d.normalized();
+  }
+  // The soles: the lowest point of the foot and toe capsules.
+  double sole = std::numeric_limits<double>::max();
+  for (int b = 0; b < kNumBones; ++b) {
+    const Joint c = kBones[b].child;
+    if (c == Joint::LFoot || c == Joint::RFoot || c == Joint::LToe || c == Joint::RToe)
+      sole = std::min({sole, p[index(kBones[b].parent)].z(), p[index(c)].z()}) - model.radius_mm[b];
+  }
+  const Eigen::Vector3d pelvis = p[index(Joint::LBack)];
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (Eigen::Vector3d& j : p)
+    j = turn * Eigen::Vector3d(j.x() - pelvis.x(), j.y() - pelvis.y(), j.z() - sole) +
+        Eigen::Vector3d(xy.x(), xy.y(), 0);
+  return p;
 }
 
 double torso_twist(const JointPositions& joints) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hullpose_msg/skeleton_t.hpp>
+#include <numbers>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/time.hpp"
@@ -25,7 +26,54 @@ HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
       tracker_(params.track),
       candidate_(params.track),
       body_(params.body),
-      filter_(params.filter) {}
+      filter_(params.filter) {
+  constexpr double kStature = 1000;
+  standing_height_ratio_ =
+      standing_pose(BodyModel::from_stature(kStature), {0, 0}, 0)[index(Joint::HeadTop)].z() /
+      kStature;
+}
+
+bool HullPoseEstimator::travel(Eigen::Vector2d& mm) const {
+  if (centroid_frames_ <= kTravelFrames) return false;
+  const size_t n = centroid_.size();
+  mm = centroid_[newest_] - centroid_[(newest_ + n - kTravelFrames) % n];
+  return true;
+}
+
+// Acquisition from the hull alone, for a subject the tree cannot read yet (arms held against the
+// body give the curve skeleton no arm branches; a subject walking in at the volume's edge). The
+// hull of an upright body is nearly the same seen from the front and from the back, so the hull
+// alone cannot say which way the subject faces (tried on the shared clips: facing chosen by the
+// better fit of all eight, the salsa clip 60_01 at 64^3 was read backwards, left for right, for
+// 69 frames). A subject walking faces where it goes: only a hull that travels (travel_mps) is
+// acquired, the model standing upright (its stature from the hull's top, standing_pose()) over
+// the hull's centroid is tracked from facings about the heading, and the best is kept when it
+// explains the hull as an acquisition must (min_score).
+bool HullPoseEstimator::acquire_from_hull() {
+  const auto points = surface_.points();
+  Eigen::Vector2d moved;
+  if (points.empty() || surface_.touches_edge() || !travel(moved) ||
+      moved.norm() <= params_.arbiter.travel_mps * 1000 * kTravelFrames * params_.arbiter.frame_s)
+    return false;
+  double top = 0;
+  for (const Eigen::Vector3f& p : points) top = std::max(top, static_cast<double>(p.z()));
+  top += 0.5 * surface_.voxel_mm();  // the top voxel's centre to its top face
+  if (!body_.started()) body_.reset(top / standing_height_ratio_);
+  const double heading = std::atan2(moved.y(), moved.x());
+  constexpr double kDeg = std::numbers::pi / 180;
+  double best = -1;
+  for (double turn : {-60.0, -30.0, 0.0, 30.0, 60.0}) {  // a step sideways still faces ahead
+    candidate_.start(standing_pose(body_.model(), centroid_[newest_], heading + turn * kDeg));
+    const double score = candidate_.track(surface_, body_.model(), {}).score.value();
+    if (score > best) {
+      best = score;
+      tracker_ = candidate_;
+    }
+  }
+  if (best >= params_.arbiter.min_score) return true;
+  tracker_.stop();
+  return false;
+}
 
 // Tracks from the bottom-up pose on a second tracker; takes it over when it explains the hull
 // clearly better than the tracked pose.
@@ -79,18 +127,32 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   reacquired_ = checked_ = false;
   out_ = det;  // reason, detail, timings of the bottom-up path; overwritten below when tracking
   surface_.extract(hull, grid);  // nullptr: no surface
+  if (surface_.empty()) {
+    centroid_frames_ = 0;
+  } else {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector3f& p : surface_.points()) c += p.head<2>().cast<double>();
+    newest_ = (newest_ + 1) % centroid_.size();
+    centroid_[newest_] = c / static_cast<double>(surface_.points().size());
+    centroid_frames_ = std::min(centroid_frames_ + 1, kTravelFrames + 1);
+  }
   // The body model starts at start_stature() (the bottom-up path's running stature, or the
   // hull's height if larger), restarting on each valid frame until that median has settled (one
   // frame's stature can be far off).
   const bool settling = bottom_up_.stature_frames() <= params_.bottom_up.stature_settle_frames;
   if (det.valid && (!body_.started() || settling)) body_.reset(start_stature(det));
-  if (!body_.started()) return out_;
-  if (!tracker_.active()) {
-    if (!det.valid) {
+  // A pose acquired from the hull alone bridges the frames until the tree reads the subject; the
+  // first valid reading takes over, as if it were the first acquisition.
+  if (!tracker_.active() || (from_hull_ && det.valid)) {
+    from_hull_ = false;
+    if (det.valid) {
+      tracker_.start(det.joints_mm);
+    } else if (acquire_from_hull()) {
+      from_hull_ = true;
+    } else {
       out_.fit_us += timer.elapsed_us();
       return out_;
     }
-    tracker_.start(det.joints_mm);
     reacquired_ = true;
   }
   body_.tick();
@@ -129,9 +191,11 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     score_ = r->score.value();
   }
   const bool good = tracked_ok || det.valid;
+  // A hull-acquired pose that stops explaining the hull is searched for afresh next frame.
+  if (from_hull_ && !tracked_ok) tracker_.stop();
   // The score's typical level follows the motion (a cartwheel explains its hull less well than
   // standing): every published frame counts.
-  if (good) median_score_ = score_median_.add(score_);
+  if (good && !from_hull_) median_score_ = score_median_.add(score_);
   // The body model learns from confident frames only: the tracked pose explains the hull as well
   // as usual and the independent bottom-up reading agrees with it.
   const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <= agree_mm;

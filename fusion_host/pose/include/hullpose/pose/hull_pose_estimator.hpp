@@ -3,7 +3,8 @@
 //
 // Two ways, chosen by HullPoseParams::mode (`--pose`):
 // - bottom-up: the thesis' per-frame path alone (PoseEstimator: tree, labels, SHAKE);
-// - track (default): the bottom-up path acquires and re-acquires; between, the subject's body
+// - track (default): the bottom-up path acquires and re-acquires (a walking subject it cannot read
+//   yet is acquired from the hull until it can: acquire_from_hull); between, the subject's body
 //   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
 //   every frame the tracked pose is scored against the hull beside the bottom-up one (when
 //   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
@@ -13,6 +14,7 @@
 // Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
 // at steady state.
 #include <Eigen/Core>
+#include <array>
 #include <span>
 
 #include "hullpose/common/voxel_grid.hpp"
@@ -55,6 +57,10 @@ struct ArbiterParams {
   // 3.5-7 s on 55_01, 01_01 and 131_02).
   double model_fraction = 0.85;
   double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
+  // Acquisition from the hull alone (HullPoseEstimator::acquire_from_hull) needs a hull moving
+  // faster than this (m/s, over the last kTravelFrames frames): the subject is taken to face
+  // where it goes, within 60 deg. Walking is 1-1.5 m/s, a standing subject's sway well under 0.1.
+  double travel_mps = 0.3;
 };
 
 struct HullPoseParams {
@@ -88,6 +94,10 @@ class HullPoseEstimator {
 
  private:
   bool try_candidate(const JointPositions& detected, double tracked_score);
+  bool acquire_from_hull();
+  // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
+  // that many consecutive frames had a hull.
+  bool travel(Eigen::Vector2d& mm) const;
   double start_stature(const PoseEstimate& det);
 
   HullPoseParams params_;
@@ -98,6 +108,7 @@ class HullPoseEstimator {
   OneEuroFilter filter_;
   PoseEstimate out_;
   bool reacquired_ = false, checked_ = false;
+  bool from_hull_ = false;  // tracking from acquire_from_hull(), no valid reading since
   JointPositions last_output_{};
   bool has_output_ = false;
   double score_ = 0, median_score_ = 0;
@@ -105,6 +116,14 @@ class HullPoseEstimator {
   // Hull heights over the head in upright settling frames (start_stature).
   RunningMedian<16> hull_height_median_;
   double hull_height_ = 0;
+  // standing_pose()'s height over its stature (Table 6.7's proportions).
+  double standing_height_ratio_ = 0;
+  // The hull's centroid (x, y) in the last frames (a ring, newest at newest_), and how many of
+  // them in a row had a hull (at most the ring's size).
+  static constexpr int kTravelFrames = 5;  // 1/6 s at 30 fps
+  std::array<Eigen::Vector2d, kTravelFrames + 1> centroid_{};
+  size_t newest_ = 0;
+  int centroid_frames_ = 0;
 };
 
 }  // namespace hullpose::pose
