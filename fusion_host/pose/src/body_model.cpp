@@ -99,7 +99,8 @@ JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, 
   for (int b = 0; b < kNumBones; ++b) {
     const Joint c = kBones[b].child;
     if (c == Joint::LFoot || c == Joint::RFoot || c == Joint::LToe || c == Joint::RToe)
-      sole = std::min({sole, p[index(kBones[b].parent)].z(), p[index(c)].z()}) - model.radius_mm[b];
+      sole = std::min(
+          sole, std::min(p[index(kBones[b].parent)].z(), p[index(c)].z()) - model.radius_mm[b]);
   }
   const Eigen::Vector3d pelvis = p[index(Joint::LBack)];
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
