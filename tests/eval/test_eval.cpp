@@ -9,6 +9,7 @@
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/tool.hpp"
 #include "hullpose/eval/cli.hpp"
+#include "hullpose/eval/consistency.hpp"
 #include "hullpose/eval/metrics.hpp"
 #include "hullpose/eval/report.hpp"
 
@@ -181,6 +182,39 @@ TEST_CASE("a constant offset is reported as exactly that offset") {
   }
 }
 
+TEST_CASE("bone lengths are scored against the truth's, bone by bone") {
+  const auto truth = walking_truth(kFrames, kStature);
+  SECTION("a moved skeleton has every bone right") {
+    const EvalResult r = evaluate(truth, offset(as_estimates(truth), Eigen::Vector3d(40, 0, 30)),
+                                  walking_meta(kFrames, kStature));
+    for (double e : r.bone_length_error_pct) CHECK(e == Approx(0).margin(1e-3));
+    CHECK(r.bone_length_error_median_abs_pct == Approx(0).margin(1e-3));
+  }
+  SECTION("a forearm 20 % long and a spine 10 % short are named, the rest is right") {
+    auto est = as_estimates(truth);
+    const int forearm = 7, spine = 12;  // kBones: LElb-LHand, UBack-Back
+    REQUIRE(kBones[forearm].child == Joint::LHand);
+    REQUIRE(kBones[spine].child == Joint::Back);
+    for (PoseRecord& p : est) {
+      // Rebuilt from the chest outwards (kBones lists parents first): everything beyond a
+      // stretched bone moves with it, so no other bone changes.
+      const JointPositions given = p.joints;
+      for (int b = 0; b < kNumBones; ++b) {
+        const int parent = index(kBones[b].parent), child = index(kBones[b].child);
+        const double factor = b == forearm ? 1.2 : b == spine ? 0.9 : 1.0;
+        p.joints[child] = p.joints[parent] + factor * (given[child] - given[parent]);
+      }
+    }
+    const EvalResult r = evaluate(truth, est, walking_meta(kFrames, kStature));
+    for (int b = 0; b < kNumBones; ++b) {
+      const double want = b == forearm ? 20 : b == spine ? -10 : 0;
+      INFO(bone_key(b));
+      CHECK(r.bone_length_error_pct[static_cast<size_t>(b)] == Approx(want).margin(1e-3));
+    }
+    CHECK(r.bone_length_error_median_abs_pct == Approx(0).margin(1e-3));
+  }
+}
+
 TEST_CASE("per-frame statistics summarise the Fig. 6.1 curve") {
   // Frame f is shifted by 10 f mm along x: per-frame means 0, 10, 20, 30, 40.
   const auto truth = walking_truth(5, kStature);
@@ -344,9 +378,11 @@ TEST_CASE("--json carries the agreed keys and --report writes the page") {
   CHECK(c.out.front() == '{');
   CHECK(c.out.back() == '\n');
   CHECK(std::count(c.out.begin(), c.out.end(), '\n') == 1);
-  for (const char* key : {"frames", "valid_pct", "mpjpe_mm", "extremity_mpjpe_mm", "pck100_pct",
-                          "lr_correct_pct", "stature_error_mm", "pck50_pct", "hands_feet_mpjpe_mm",
-                          "mpjpe_median_mm", "mpjpe_std_mm", "per_joint", "RToe"})
+  for (const char* key :
+       {"frames", "valid_pct", "mpjpe_mm", "extremity_mpjpe_mm", "pck100_pct", "lr_correct_pct",
+        "stature_error_mm", "pck50_pct", "hands_feet_mpjpe_mm", "mpjpe_median_mm", "mpjpe_std_mm",
+        "per_joint", "RToe", "bone_length_error_pct", "LElb-LHand",
+        "bone_length_error_median_abs_pct"})
     CHECK(c.out.find("\"" + std::string(key) + "\":") != std::string::npos);
   const std::string html = slurp(dir.path / "rep" / "report.html");
   REQUIRE(!html.empty());

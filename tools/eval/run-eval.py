@@ -167,6 +167,7 @@ def main():
                         "hands_feet_mm": e["hands_feet_mpjpe_mm"], "lr_correct_pct": e["lr_correct_pct"],
                         "stature_error_pct": None if e["stature_gt_mm"] is None or e["stature_est_mm"] is None
                         else 100.0 * e["stature_error_mm"] / e["stature_gt_mm"],
+                        "bone_length_error_pct": e["bone_length_error_median_abs_pct"],
                         "pose_median_ms": summary["median_ms"]["tree"] + summary["median_ms"]["fit"]}
                 if name == "tpose":
                     line["jitter_rms_mm"] = jitter_rms(est)
@@ -190,12 +191,13 @@ def main():
         print("eval: crane skipped (no ../shared/data/real/vlasic-crane or no hullpose-import)", file=sys.stderr)
     fmt = lambda v, d=1: "-" if v is None else f"{v:.{d}f}"
     print("| clip | res | pose | in-vol frames | out-of-vol (flagged) | valid % | MPJPE mm | hands+feet mm | "
-          "L/R % | stature err % | pose ms | jitter mm | lag frames |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "L/R % | stature err % | bone len err % | pose ms | jitter mm | lag frames |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in results:
         print(f"| {r['clip']} | {r['resolution']} | {r['pose']} | {r['frames']} | {r['out_of_volume_frames']} "
               f"({r['out_of_volume_invalid']}) | {fmt(r['valid_pct'])} | {fmt(r['mpjpe_mm'])} | "
               f"{fmt(r['hands_feet_mm'])} | {fmt(r['lr_correct_pct'])} | {fmt(r['stature_error_pct'])} | "
+              f"{fmt(r['bone_length_error_pct'])} | "
               f"{fmt(r['pose_median_ms'], 3)} | {fmt(r.get('jitter_rms_mm'))} | {r.get('lag_frames', '-')} |")
     if crane_rows:
         print("\n| real capture | res | pose | frames | valid % | bone points inside every view % | "

@@ -136,6 +136,7 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   std::vector<double> all, extremities, hands_feet, statures_est, statures_gt, frame_means,
       frame_hf;
   std::array<std::vector<double>, kNumJoints> per_joint;
+  std::array<double, kNumBones> bone_error_sum{};
   int within50 = 0, within100 = 0, lr_both = 0, lr_arms = 0, lr_legs = 0;
   double worst_mm = -1;
 
@@ -222,6 +223,13 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
     f.stature_est_mm = stature_from_joints(est->joints);
     statures_gt.push_back(f.stature_gt_mm);
     statures_est.push_back(f.stature_est_mm);
+    for (size_t b = 0; b < kNumBones; ++b) {
+      const double gt_mm =
+          (at(gt.joints, kBones[b].child) - at(gt.joints, kBones[b].parent)).norm();
+      const double est_mm =
+          (at(est->joints, kBones[b].child) - at(est->joints, kBones[b].parent)).norm();
+      bone_error_sum[b] += gt_mm > 0 ? (est_mm - gt_mm) / gt_mm : 0;
+    }
     r.axis_abs_mm += f.axis_abs_mm;
     r.axis_bias_mm += f.axis_bias_mm;
     r.per_frame.push_back(f);
@@ -258,6 +266,12 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   r.stature_est_std_mm = est_stature.std;
   r.stature_error_mm = r.stature_est_mm - r.stature_gt_mm;
   r.stature_error_meta_mm = r.stature_est_mm - r.stature_meta_mm;
+  std::vector<double> bone_abs;
+  for (size_t b = 0; b < kNumBones; ++b) {
+    r.bone_length_error_pct[b] = 100.0 * bone_error_sum[b] / n;
+    bone_abs.push_back(std::abs(r.bone_length_error_pct[b]));
+  }
+  r.bone_length_error_median_abs_pct = box_stats(std::move(bone_abs)).median;
   return r;
 }
 

@@ -6,6 +6,7 @@
 
 #include "format.hpp"
 #include "hullpose/common/check.hpp"
+#include "hullpose/eval/consistency.hpp"
 #include "hullpose/eval/report.hpp"
 #include "hullpose/msg/reasons.hpp"
 
@@ -69,6 +70,11 @@ void write_json(std::ostream& out, const EvalResult& r) {
   o["stature_est_std_mm"] = num(r.stature_est_std_mm);
   o["stature_error_mm"] = num(r.stature_error_mm);
   o["stature_error_meta_mm"] = num(r.stature_error_meta_mm);
+  Json bones = Json::object();
+  for (int b = 0; b < kNumBones; ++b)
+    bones[bone_key(b)] = num(r.bone_length_error_pct[static_cast<size_t>(b)]);
+  o["bone_length_error_pct"] = bones;
+  o["bone_length_error_median_abs_pct"] = num(r.bone_length_error_median_abs_pct);
   o["axis_abs_mm"] = vec3(r.axis_abs_mm);
   o["axis_bias_mm"] = vec3(r.axis_bias_mm);
   Json joints = Json::object();
@@ -137,6 +143,7 @@ void write_table(std::ostream& out, const EvalResult& r, const ReportSource& sou
       mm(r.stature_est_mm) + "   (std " + fixed(r.stature_est_std_mm, 1, "-") + ")");
   row("error vs ground-truth joints", mm(r.stature_error_mm));
   row("error vs true stature", mm(r.stature_error_meta_mm));
+  row("bone lengths, median |error|", pc(r.bone_length_error_median_abs_pct));
 
   out << "\nPer joint (mm)     mean      std   median       q1       q3      max  outliers\n";
   for (size_t j = 0; j < kNumJoints; ++j) {

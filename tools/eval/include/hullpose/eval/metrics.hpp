@@ -98,6 +98,12 @@ struct EvalResult {
   double stature_est_std_mm = 0;
   double stature_error_mm = 0;       // stature_est_mm - stature_gt_mm
   double stature_error_meta_mm = 0;  // stature_est_mm - stature_meta_mm (thesis Table 6.8)
+  // Each bone's length against the truth's, kBones order: the mean over scored frames of
+  // (est - gt) / gt, per cent. The stature alone hides a wrong model (a spine too short and a
+  // neck too long can add up to the right stature); this says which bones the body model got
+  // wrong. NaN without scored frames.
+  std::array<double, kNumBones> bone_length_error_pct{};
+  double bone_length_error_median_abs_pct = 0;  // the median over the 24 bones of |error|
 
   std::vector<FrameResult> per_frame;  // one per ground-truth frame, in order
 };
