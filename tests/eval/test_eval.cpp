@@ -342,10 +342,12 @@ TEST_CASE("an estimate with no valid frame still reports, with nulls") {
   CHECK(r.pck100_pct == 0);
   CHECK(std::isnan(r.all_joints.mean));
   CHECK(std::isnan(r.lr_correct_pct));
+  CHECK(std::isnan(r.bone_length_error_median_abs_pct));
   std::ostringstream json;
   write_json(json, r);
   const auto j = nlohmann::json::parse(json.str());
   CHECK(j["mpjpe_mm"].is_null());
+  CHECK(j["bone_length_error_median_abs_pct"].is_null());
   CHECK(j["valid_pct"] == 0.0);
   std::ostringstream table;
   write_table(table, r, {"ds", "est.csv", "walk"});

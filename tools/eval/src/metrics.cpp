@@ -269,7 +269,7 @@ EvalResult evaluate(const std::vector<PoseRecord>& truth, const std::vector<Pose
   std::vector<double> bone_abs;
   for (size_t b = 0; b < kNumBones; ++b) {
     r.bone_length_error_pct[b] = 100.0 * bone_error_sum[b] / n;
-    bone_abs.push_back(std::abs(r.bone_length_error_pct[b]));
+    if (scored > 0) bone_abs.push_back(std::abs(r.bone_length_error_pct[b]));  // else NaN
   }
   r.bone_length_error_median_abs_pct = box_stats(std::move(bone_abs)).median;
   return r;
