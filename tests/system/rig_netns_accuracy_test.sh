@@ -36,32 +36,50 @@ wait_for "$work/host.ready" 60; wait_for "$work/listen.ready" 60
 spawn "$work/master.log" master "$build/firmware_sync/trigger_master/hullpose-trigger-master" --rig-id "$(sed -n 's/^rig_id: *//p' "$work/data/rig.yaml" | tr -d '"')" \
   --rate "$rate" --line "wire:$work/wire.sock" --lcm-url "$url" --count "$frames" --wait-nodes "$num"
 master=$spawned
+cams=()
 for ((c = 0; c < num; c++)); do
   spawn "$work/cam$c.log" "cam$c" "$build/camera_node/app/hullpose-camera-node" --config "$work/node$c.yaml"
+  cams+=("$spawned")
 done
 wait "$master" || { echo "FAIL: trigger master"; cat "$work/master.log"; exit 1; }
 wait "$listener" || true
-kill "$host" 2>/dev/null || true; wait "$host" || true
+# Stopped cleanly, every process prints its counters (read below).
+kill "$host" "${cams[@]}" 2>/dev/null || true; wait "$host" "${cams[@]}" || true
 kill -INT "$hull_logger" 2>/dev/null || true; wait "$hull_logger" || true
 
 # The replay is given what the live host fused, frame by frame: the pose tracker carries state
 # from frame to frame, so one frame fused differently would start the two down different paths.
-# A view lost or later than the deadline (a stall of the whole 2-core machine, counted by the
-# host) changes what the live host fused: a frame with too few views never reached its pose
-# stage, so it is left out of the replay's input, scored as lost in both, and must stay under
-# 1 %; a frame fused from fewer than all views (`cameras_mask` of its skeleton, from the
-# listener's log) is replayed from those views only. The replay's input is a dataset of links to
-# the masks so chosen.
+# A view missing live (a stall of the whole 2-core machine) changes what the live host fused:
+# - A frame with too few views never reached its pose stage. It is left out of the replay's
+#   input and scored as lost in both. Such frames must stay under 1 %, or under 5 % when every
+#   view missing live is a counted drop: a node that fell behind its trigger (fewer silhouettes
+#   published than triggers; trigger_overrun and kin in its log) or a view that reached the host
+#   after its frame had closed (`late`). Then the machine stalled and the rig said so; an
+#   uncounted loss is a fault of the rig.
+# - A frame fused from fewer than all views (`cameras_mask` in the listener's log) is replayed
+#   from those views only.
+# The replay's input is a dataset of links to the masks so chosen.
 /usr/bin/python3 - "$work" "$frames" <<'PY'
-import csv, json, os, shutil, sys
+import csv, json, os, re, shutil, sys
 work, frames = sys.argv[1], int(sys.argv[2])
 short = {int(r["frame"]) for r in csv.DictReader(open(f"{work}/live.csv")) if r["reason"] == "1"}
 used = {int(r["trigger_seq"]): int(r["cameras_mask"]) for r in csv.DictReader(open(f"{work}/live-log.csv"))}
-print(f"rig_netns_accuracy_test: {len(short)} frames with too few views live, left out of both scores")
-if len(short) > 0.01 * frames: sys.exit(f"FAIL: {len(short)} frames lost views live (allowed: 1 %)")
-kept = [f for f in range(frames) if f not in short]
 src, dst = f"{work}/data", f"{work}/replay-data"
 meta = json.load(open(f"{src}/meta.json"))
+missing = sum(len(meta["camera_ids"]) - bin(mask).count("1") for mask in used.values())
+def last_count(path, pattern, missing_line):  # a process that printed no summary counted nothing
+    found = re.findall(pattern, open(path).read())
+    return int(found[-1]) if found else missing_line
+late = last_count(f"{work}/host.log", r"\blate=(\d+)", 0)
+behind = sum(frames - last_count(f"{work}/cam{c}.log", r"stopped after (\d+) silhouettes", frames)
+             for c in range(len(meta["camera_ids"])))
+print(f"rig_netns_accuracy_test: {len(short)} frames with too few views live, left out of both scores;"
+      f" {missing} views missing live, counted as dropped: {behind} by nodes behind their trigger, {late} late at the host")
+allowed = 0.05 if missing <= behind + late else 0.01
+if len(short) > allowed * frames:
+    sys.exit(f"FAIL: {len(short)} frames lost views live (allowed: {allowed:.0%}; {missing} missing views,"
+             f" {behind + late} counted as dropped)")
+kept = [f for f in range(frames) if f not in short]
 meta["frames"] = len(kept)
 os.makedirs(dst)
 json.dump(meta, open(f"{dst}/meta.json", "w"))
