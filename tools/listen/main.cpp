@@ -76,6 +76,12 @@ struct Listener {
     else if (o.format == "jsonl")
       hullpose::listen::write_jsonl(*out, msg);
     if (estimates) hullpose::listen::write_estimate(*estimates, msg, o.frame_offset);
+    // Each skeleton reaches the file as it arrives (30 writes a second): a recording read while
+    // it is written (a live tail, the rig tests waiting for the last trigger's row) sees every
+    // skeleton heard, and a listener killed or cut off loses none. Buffered, the last rows
+    // appeared only at exit, and each fault-matrix run waited out its 20 s deadline for them.
+    out->flush();
+    if (estimates) estimates->flush();
   }
 };
 
