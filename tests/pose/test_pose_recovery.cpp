@@ -206,6 +206,59 @@ TEST_CASE("the bottom-up reading is tried on the second tracker when the two dis
   CHECK(stage.checked());
 }
 
+TEST_CASE(
+    "a limb held wrongly is taken from the bottom-up reading; one the hull rules out is not") {
+  // The left arm hangs, then is raised sideways in one frame: its hull points lie beyond the
+  // tracker's gate, and the hanging arm it holds is pulled into the trunk's hull, not up. The
+  // whole-body check is off (agree_ratio, check_fraction), so only the limb step can take the
+  // reading's arm.
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  Limbs down = t_pose();
+  down.l_upper_arm = down.l_forearm = {0.15, 0, -1};
+  Limbs raised = down;
+  raised.l_upper_arm = raised.l_forearm = {1, 0, 0.5};
+  HullPoseParams params = stick_params();
+  params.arbiter.agree_ratio = 1;
+  params.arbiter.check_fraction = 0;
+  const JointPositions hanging = stick_figure(kStature, down);
+  const JointPositions up = stick_figure(kStature, raised);
+  fusion::BitGrid hull;
+  // Settles on the hanging arm, then one frame with this hull and this skeleton (none: empty).
+  auto after_settling = [&](HullPoseEstimator& stage, const JointPositions& hull_of,
+                            const JointPositions* skeleton_of) {
+    for (int f = 0; f < 30; ++f) {
+      capsule_hull(g, hanging, body, hull);
+      stage.estimate(rasterise(g, hanging), &hull, g);
+    }
+    capsule_hull(g, hull_of, body, hull);
+    const auto skeleton =
+        skeleton_of != nullptr ? rasterise(g, *skeleton_of) : std::vector<Eigen::Vector3i>{};
+    return stage.estimate(skeleton, &hull, g).joints_mm[index(Joint::LFTip)];
+  };
+  const Eigen::Vector3d tip_up = up[index(Joint::LFTip)];
+  const Eigen::Vector3d tip_down = hanging[index(Joint::LFTip)];
+  {
+    HullPoseEstimator stage(params);
+    const Eigen::Vector3d tip = after_settling(stage, up, &up);
+    INFO("raised, with the reading: the hand's tip " << (tip - tip_up).norm() << " mm off");
+    CHECK((tip - tip_up).norm() < 60);
+    CHECK_FALSE(stage.reacquired());
+  }
+  {
+    HullPoseEstimator stage(params);
+    const Eigen::Vector3d tip = after_settling(stage, up, nullptr);
+    INFO("raised, no reading: the hand's tip " << (tip - tip_up).norm() << " mm off");
+    CHECK((tip - tip_up).norm() > 300);
+  }
+  {
+    HullPoseEstimator stage(params);
+    const Eigen::Vector3d tip = after_settling(stage, hanging, &up);
+    INFO("hanging, read raised: the hand's tip " << (tip - tip_down).norm() << " mm off");
+    CHECK((tip - tip_down).norm() < 60);
+  }
+}
+
 TEST_CASE("every frame of a held body model has its bone lengths, through garbage and recovery") {
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel body = BodyModel::from_stature(kStature);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <hullpose_msg/skeleton_t.hpp>
 #include <numbers>
+#include <utility>
 
 #include "hullpose/common/check.hpp"
 #include "hullpose/common/time.hpp"
@@ -11,6 +12,13 @@
 namespace hullpose::pose {
 namespace {
 using Msg = hullpose_msg::skeleton_t;
+
+// The body's left-to-right direction, horizontal: shoulders and hips together.
+Eigen::Vector2d left_to_right(const JointPositions& x) {
+  return (x[index(Joint::RSho)] - x[index(Joint::LSho)] + x[index(Joint::RHip)] -
+          x[index(Joint::LHip)])
+      .head<2>();
+}
 }  // namespace
 
 PoseMode parse_pose_mode(const std::string& value, const char* what) {
@@ -25,6 +33,8 @@ HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
       surface_(params.track.max_points),
       tracker_(params.track),
       candidate_(params.track),
+      limb_(params.track),
+      best_limb_(params.track),
       body_(params.body),
       filter_(params.filter) {
   constexpr double kStature = 1000;
@@ -83,6 +93,41 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tra
   if (c.score.value() <= tracked_score + params_.arbiter.switch_margin) return false;
   tracker_ = candidate_;
   return true;
+}
+
+// The whole-body check (try_candidate) misses a single limb gone wrong: an arm the tracker left
+// in a wrong place the hull does not rule out (inside the torso, where no surface of its own
+// pulls it out) while the curve skeleton shows its branch elsewhere moves the mean joint
+// distance by a few per cent of the stature only. Where a limb's bottom-up tip lies beyond the
+// distance at which it would pull the tracked tip (TrackParams::detect_agree_ratio), the frame
+// is tracked again from the state before it with that limb started at its reading, hung from
+// the predicted root. The best of these replaces the tracked pose when it explains more of the
+// hull without putting more of the body outside it (neither part of the score falls: a limb
+// that only trades one for the other is no better read). The rest of the body and its velocity
+// are kept, which a restart from the whole bottom-up pose would lose. A reading that faces the
+// other way has its left and right the other way round too: none of its limbs is tried.
+bool HullPoseEstimator::try_limbs(const JointPositions& detected,
+                                  const HullTracker::State& before) {
+  const JointPositions& tracked = tracker_.result().joints;
+  if (left_to_right(detected).dot(left_to_right(tracked)) <= 0) return false;
+  const double far = params_.track.detect_agree_ratio * body_.model().stature_mm();
+  const HullScore& now = tracker_.result().score;
+  double best = now.value();
+  bool found = false;
+  for (const Limb& limb : kLimbs) {
+    const int tip = index(limb.tip());
+    if ((detected[tip] - tracked[tip]).norm() <= far) continue;
+    limb_.restore(before);
+    const HullScore& c = limb_.track(surface_, body_.model(), {&detected, &limb}).score;
+    if (c.explained < now.explained || c.inside < now.inside) continue;
+    if (c.value() > best) {
+      best = c.value();
+      std::swap(limb_, best_limb_);
+      found = true;
+    }
+  }
+  if (found) std::swap(tracker_, best_limb_);
+  return found;
 }
 
 // The body model's starting stature. The bottom-up reading's can be far off (21 % short on the
@@ -158,7 +203,10 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   body_.tick();
   tracker_.set_measure_lengths(!body_.held());
   candidate_.set_measure_lengths(!body_.held());
+  limb_.set_measure_lengths(!body_.held());
+  best_limb_.set_measure_lengths(!body_.held());
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
+  const HullTracker::State before = tracker_.state();
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
   const bool have_median = score_median_.count() >= 8;
   // A disagreement is checked: the tracked pose may be the wrong one (ArbiterParams).
@@ -172,6 +220,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
       r = &tracker_.result();
     }
   }
+  if (detected != nullptr && !reacquired_ && try_limbs(*detected, before)) r = &tracker_.result();
   score_ = r->score.value();
   const double floor = have_median ? a.valid_fraction * median_score_ : a.min_score;
   const bool cut_off = surface_.touches_edge();

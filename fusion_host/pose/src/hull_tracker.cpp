@@ -164,6 +164,13 @@ void HullTracker::start(const JointPositions& pose) {
   active_ = true;
 }
 
+void HullTracker::restore(const State& s) {
+  previous_ = s.previous;
+  before_previous_ = s.before_previous;
+  has_velocity_ = s.has_velocity;
+  active_ = s.active;
+}
+
 // The surface voxels' centres lie half a voxel inside the hull's surface: the capsules are
 // compared with them at their radius less half a voxel (else every cap pushes its bone inwards:
 // the head down, the feet up).
@@ -537,6 +544,15 @@ const TrackResult& HullTracker::track(const HullSurface& surface, const BodyMode
       predicted[j] += v;
     }
   }
+  const Limb* limb = detected.joints != nullptr ? detected.limb : nullptr;
+  if (limb != nullptr) {
+    const JointPositions& d = *detected.joints;
+    const Eigen::Vector3d offset = predicted[index(limb->root())] - d[index(limb->root())];
+    for (int k = 1; k < limb->size; ++k) {
+      const int j = index(limb->joints[static_cast<size_t>(k)]);
+      predicted[j] = d[j] + offset;
+    }
+  }
   result_.joints = predicted;
   if (!surface.empty()) fit(surface, model, predicted, detected);
   if (std::abs(torso_twist(result_.joints)) > kSwapTwist) {
@@ -546,6 +562,15 @@ const TrackResult& HullTracker::track(const HullSurface& surface, const BodyMode
   measure(surface, model);
   before_previous_ = previous_;
   previous_ = result_.joints;
+  if (limb != nullptr) {
+    // Its own change this frame is a jump to the detection, not motion.
+    const int root = index(limb->root());
+    const Eigen::Vector3d v = previous_[root] - before_previous_[root];
+    for (int k = 1; k < limb->size; ++k) {
+      const int j = index(limb->joints[static_cast<size_t>(k)]);
+      before_previous_[j] = previous_[j] - v;
+    }
+  }
   has_velocity_ = true;
   return result_;
 }

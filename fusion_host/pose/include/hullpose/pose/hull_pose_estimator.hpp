@@ -8,7 +8,8 @@
 //   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
 //   every frame the tracked pose is scored against the hull beside the bottom-up one (when
 //   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
-//   tracked pose no longer explains it (drift). Output optionally through a causal One Euro
+//   tracked pose no longer explains it (drift); a single bottom-up limb takes over when the pose
+//   with it explains the hull better (try_limbs). Output optionally through a causal One Euro
 //   filter (HullPoseParams::filter, off by default).
 //
 // Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
@@ -94,6 +95,7 @@ class HullPoseEstimator {
 
  private:
   bool try_candidate(const JointPositions& detected, double tracked_score);
+  bool try_limbs(const JointPositions& detected, const HullTracker::State& before);
   bool acquire_from_hull();
   // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
   // that many consecutive frames had a hull.
@@ -104,6 +106,7 @@ class HullPoseEstimator {
   PoseEstimator bottom_up_;
   HullSurface surface_;
   HullTracker tracker_, candidate_;
+  HullTracker limb_, best_limb_;  // try_limbs()'s: the one being tried, the best so far
   BodyModelEstimator body_;
   OneEuroFilter filter_;
   PoseEstimate out_;

@@ -141,6 +141,20 @@ struct TrackResult {
   std::array<double, kNumBones> radius_mm{};
 };
 
+// An arm or a leg, from its root (shoulder or hip) out to its tip.
+struct Limb {
+  std::array<Joint, 5> joints;
+  int size;
+  Joint root() const { return joints[0]; }
+  Joint tip() const { return joints[static_cast<size_t>(size - 1)]; }
+};
+inline constexpr std::array<Limb, 4> kLimbs = {{
+    {{Joint::LSho, Joint::LElb, Joint::LHand, Joint::LFTip}, 4},
+    {{Joint::RSho, Joint::RElb, Joint::RHand, Joint::RFTip}, 4},
+    {{Joint::LHip, Joint::LKne, Joint::LAnk, Joint::LFoot, Joint::LToe}, 5},
+    {{Joint::RHip, Joint::RKne, Joint::RAnk, Joint::RFoot, Joint::RToe}, 5},
+}};
+
 class HullTracker {
  public:
   explicit HullTracker(TrackParams params = {});
@@ -151,7 +165,17 @@ class HullTracker {
   // Extremity positions from the bottom-up path, used where they agree (nullptr: none).
   struct Detected {
     const JointPositions* joints = nullptr;
+    // A limb whose prediction is replaced by its detected pose, hung from the predicted root;
+    // it then moves with its root's velocity (nullptr: none; needs `joints`).
+    const Limb* limb = nullptr;
   };
+  // What track() starts from: a second tracker restored to it tracks the same frame another way.
+  struct State {
+    JointPositions previous, before_previous;
+    bool has_velocity = false, active = false;
+  };
+  State state() const { return {previous_, before_previous_, has_velocity_, active_}; }
+  void restore(const State& s);
   // One frame: predict, fit to `surface` (of at most TrackParams::max_points points), score.
   // Keeps the result as the new state.
   const TrackResult& track(const HullSurface& surface, const BodyModel& model, Detected detected);
