@@ -103,31 +103,36 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tra
 // is tracked again from the state before it with that limb started at its reading, hung from
 // the predicted root. The best of these replaces the tracked pose when it explains more of the
 // hull without putting more of the body outside it (neither part of the score falls: a limb
-// that only trades one for the other is no better read). The rest of the body and its velocity
-// are kept, which a restart from the whole bottom-up pose would lose. A reading that faces the
-// other way has its left and right the other way round too: none of its limbs is tried.
+// that only trades one for the other is no better read); then the other limbs are tried again
+// on top of it, as more than one can be wrong at once (both arms, on the salsa clips). The rest
+// of the body and its velocity are kept, which a restart from the whole bottom-up pose would
+// lose. A reading that faces the other way has its left and right the other way round too: none
+// of its limbs is tried. At most 4 + 3 + 2 + 1 trackings, in frames where limbs disagree.
 bool HullPoseEstimator::try_limbs(const JointPositions& detected,
                                   const HullTracker::State& before) {
-  const JointPositions& tracked = tracker_.result().joints;
-  if (left_to_right(detected).dot(left_to_right(tracked)) <= 0) return false;
+  if (left_to_right(detected).dot(left_to_right(tracker_.result().joints)) <= 0) return false;
   const double far = params_.track.detect_agree_ratio * body_.model().stature_mm();
-  const HullScore& now = tracker_.result().score;
-  double best = now.value();
-  bool found = false;
-  for (const Limb& limb : kLimbs) {
-    const int tip = index(limb.tip());
-    if ((detected[tip] - tracked[tip]).norm() <= far) continue;
-    limb_.restore(before);
-    const HullScore& c = limb_.track(surface_, body_.model(), {&detected, &limb}).score;
-    if (c.explained < now.explained || c.inside < now.inside) continue;
-    if (c.value() > best) {
+  unsigned taken = 0;
+  for (;;) {
+    const TrackResult& now = tracker_.result();
+    double best = now.score.value();
+    unsigned pick = 0;
+    for (size_t i = 0; i < kLimbs.size(); ++i) {
+      const unsigned bit = 1u << i;
+      const int tip = index(kLimbs[i].tip());
+      if ((taken & bit) != 0 || (detected[tip] - now.joints[tip]).norm() <= far) continue;
+      limb_.restore(before);
+      const HullScore& c = limb_.track(surface_, body_.model(), {&detected, taken | bit}).score;
+      if (c.explained < now.score.explained || c.inside < now.score.inside || c.value() <= best)
+        continue;
       best = c.value();
+      pick = bit;
       std::swap(limb_, best_limb_);
-      found = true;
     }
+    if (pick == 0) return taken != 0;
+    taken |= pick;
+    std::swap(tracker_, best_limb_);
   }
-  if (found) std::swap(tracker_, best_limb_);
-  return found;
 }
 
 // The body model's starting stature. The bottom-up reading's can be far off (21 % short on the

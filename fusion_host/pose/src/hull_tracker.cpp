@@ -30,6 +30,13 @@ constexpr std::array<double, 5> kInsideSamples = {0.0, 0.25, 0.5, 0.75, 1.0};
 // (TrackParams::max_twist_deg).
 constexpr double kSwapTwist = std::numbers::pi / 2;
 
+// f(limb) for each limb of the mask (bit i: kLimbs[i]).
+template <class F>
+void for_each_limb(unsigned mask, F f) {
+  for (size_t i = 0; i < kLimbs.size(); ++i)
+    if ((mask & (1u << i)) != 0) f(kLimbs[i]);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -544,15 +551,15 @@ const TrackResult& HullTracker::track(const HullSurface& surface, const BodyMode
       predicted[j] += v;
     }
   }
-  const Limb* limb = detected.joints != nullptr ? detected.limb : nullptr;
-  if (limb != nullptr) {
+  const unsigned limbs = detected.joints != nullptr ? detected.limbs : 0;
+  for_each_limb(limbs, [&](const Limb& limb) {
     const JointPositions& d = *detected.joints;
-    const Eigen::Vector3d offset = predicted[index(limb->root())] - d[index(limb->root())];
-    for (int k = 1; k < limb->size; ++k) {
-      const int j = index(limb->joints[static_cast<size_t>(k)]);
+    const Eigen::Vector3d offset = predicted[index(limb.root())] - d[index(limb.root())];
+    for (int k = 1; k < limb.size; ++k) {
+      const int j = index(limb.joints[static_cast<size_t>(k)]);
       predicted[j] = d[j] + offset;
     }
-  }
+  });
   result_.joints = predicted;
   if (!surface.empty()) fit(surface, model, predicted, detected);
   if (std::abs(torso_twist(result_.joints)) > kSwapTwist) {
@@ -562,15 +569,15 @@ const TrackResult& HullTracker::track(const HullSurface& surface, const BodyMode
   measure(surface, model);
   before_previous_ = previous_;
   previous_ = result_.joints;
-  if (limb != nullptr) {
+  for_each_limb(limbs, [&](const Limb& limb) {
     // Its own change this frame is a jump to the detection, not motion.
-    const int root = index(limb->root());
+    const int root = index(limb.root());
     const Eigen::Vector3d v = previous_[root] - before_previous_[root];
-    for (int k = 1; k < limb->size; ++k) {
-      const int j = index(limb->joints[static_cast<size_t>(k)]);
+    for (int k = 1; k < limb.size; ++k) {
+      const int j = index(limb.joints[static_cast<size_t>(k)]);
       before_previous_[j] = previous_[j] - v;
     }
-  }
+  });
   has_velocity_ = true;
   return result_;
 }

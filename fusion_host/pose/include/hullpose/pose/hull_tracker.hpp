@@ -165,9 +165,10 @@ class HullTracker {
   // Extremity positions from the bottom-up path, used where they agree (nullptr: none).
   struct Detected {
     const JointPositions* joints = nullptr;
-    // A limb whose prediction is replaced by its detected pose, hung from the predicted root;
-    // it then moves with its root's velocity (nullptr: none; needs `joints`).
-    const Limb* limb = nullptr;
+    // Limbs whose predictions are replaced by their detected poses, each hung from its
+    // predicted root; they then move with their roots' velocity. Bit i: kLimbs[i] (needs
+    // `joints`).
+    unsigned limbs = 0;
   };
   // What track() starts from: a second tracker restored to it tracks the same frame another way.
   struct State {
