@@ -8,9 +8,9 @@
 //   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
 //   every frame the tracked pose is scored against the hull beside the bottom-up one (when
 //   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
-//   tracked pose no longer explains it (drift); a single bottom-up limb takes over when the pose
-//   with it explains the hull better (try_limbs). Output optionally through a causal One Euro
-//   filter (HullPoseParams::filter, off by default).
+//   tracked pose no longer explains it (drift); bottom-up arms and legs take over one at a time
+//   when the pose with them explains the hull better (try_limbs). Output optionally through a
+//   causal One Euro filter (HullPoseParams::filter, off by default).
 //
 // Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
 // at steady state.
