@@ -168,6 +168,41 @@ TEST_CASE(
   CHECK(valid == 0);
 }
 
+TEST_CASE("labellings that rank too low to be valid still correct the tracked limbs") {
+  // No labelling can be valid here (min_quality above any quality), so both stages acquire the
+  // walking subject from the hull alone, standing, with its limbs straight down. The one that
+  // sees the skeleton gets each frame's labelling as a guess (never valid itself) and takes the
+  // swinging limbs from it; the one without a skeleton has nothing to take them from.
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  HullPoseParams params = stick_params();
+  params.bottom_up.tree.min_quality = 2;
+  HullPoseEstimator guessing(params), blind(params);
+  fusion::BitGrid hull;
+  double guessing_error = 0, blind_error = 0;
+  int scored = 0;
+  for (int f = 0; f < 30; ++f) {
+    const JointPositions truth = stick_figure(kStature, swing(f), {0, 0, 0, -300.0 + 20 * f});
+    capsule_hull(g, truth, body, hull);
+    const PoseEstimate& e = guessing.estimate(rasterise(g, truth), &hull, g);
+    const PoseEstimate& b = blind.estimate({}, &hull, g);
+    INFO("frame " << f);
+    CHECK_FALSE(guessing.bottom_up().last().valid);
+    if (f < 15) continue;  // acquisition, and the limbs taken over
+    CHECK(guessing.bottom_up().last().has_guess);
+    CHECK(e.valid);
+    CHECK(b.valid);
+    guessing_error += mean_error(e.joints_mm, truth);
+    blind_error += mean_error(b.joints_mm, truth);
+    ++scored;
+  }
+  guessing_error /= scored;
+  blind_error /= scored;
+  INFO("mean error with guesses " << guessing_error << " mm, without " << blind_error << " mm");
+  CHECK(guessing_error < 40);
+  CHECK(blind_error > 2 * guessing_error);
+}
+
 TEST_CASE("the bottom-up reading is tried on the second tracker when the two disagree, only then") {
   // A forearm dropped from folded up to hanging between two frames: the bottom-up reading has
   // it down, the tracked pose still up. That disagreement makes the stage track the reading on

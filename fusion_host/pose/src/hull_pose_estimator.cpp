@@ -19,6 +19,11 @@ Eigen::Vector2d left_to_right(const JointPositions& x) {
           x[index(Joint::LHip)])
       .head<2>();
 }
+
+PoseParams with_guesses(PoseParams p, bool on) {
+  p.fit_low_rank = on;
+  return p;
+}
 }  // namespace
 
 PoseMode parse_pose_mode(const std::string& value, const char* what) {
@@ -29,7 +34,7 @@ PoseMode parse_pose_mode(const std::string& value, const char* what) {
 
 HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
     : params_(params),
-      bottom_up_(params.bottom_up),
+      bottom_up_(with_guesses(params.bottom_up, params.mode == PoseMode::kTrack)),
       surface_(params.track.max_points),
       tracker_(params.track),
       candidate_(params.track),
@@ -47,7 +52,35 @@ bool HullPoseEstimator::travel(Eigen::Vector2d& mm) const {
   if (centroid_frames_ <= kTravelFrames) return false;
   const size_t n = centroid_.size();
   mm = centroid_[newest_] - centroid_[(newest_ + n - kTravelFrames) % n];
-  return true;
+  return mm.norm() > params_.arbiter.travel_mps * 1000 * kTravelFrames * params_.arbiter.frame_s;
+}
+
+double HullPoseEstimator::travel_facing(const JointPositions& x) const {
+  Eigen::Vector2d moved;
+  const Eigen::Vector2d l2r = left_to_right(x);
+  if (!travel(moved) || l2r.squaredNorm() < 1e-12) return 0;
+  const Eigen::Vector2d front(-l2r.y(), l2r.x());  // z up: the front is left-to-right turned left
+  return front.dot(moved) / (front.norm() * moved.norm());
+}
+
+// Which reading the tracked pose is tested against (try_candidate, try_limbs): the valid one,
+// or else the bottom-up path's guess (PoseEstimate::guess_mm: a labelling that ranks too low to
+// be valid, which the hull may still prefer; most are where the tree's limb branches are short
+// or merged, which is where the tracker needs help most). A guess has no say in which way the
+// body faces (its left and right are the least certain part of it): one that turns the tracked
+// pose round is only tested where the tracked pose faces against the hull's travel and the guess
+// along it (a walking subject faces where it goes, as in acquire_from_hull). Without this rule
+// such guesses turned the salsa clip 60_01 backwards for 60 frames; with it, 131_01's re-entry
+// (at 128^3 tracked backwards for eight frames, 300 mm off) is turned round on its third frame.
+const JointPositions* HullPoseEstimator::reading_for(const PoseEstimate& det,
+                                                     const JointPositions& tracked) const {
+  if (det.valid) return &det.joints_mm;
+  if (!det.has_guess) return nullptr;
+  constexpr double kAgainst = -0.5;  // front more than 120 deg from the travel
+  const bool same_way = left_to_right(det.guess_mm).dot(left_to_right(tracked)) > 0;
+  if (same_way || (travel_facing(tracked) < kAgainst && travel_facing(det.guess_mm) > 0))
+    return &det.guess_mm;
+  return nullptr;
 }
 
 // Acquisition from the hull alone, for a subject the tree cannot read yet (arms held against the
@@ -62,9 +95,7 @@ bool HullPoseEstimator::travel(Eigen::Vector2d& mm) const {
 bool HullPoseEstimator::acquire_from_hull() {
   const auto points = surface_.points();
   Eigen::Vector2d moved;
-  if (points.empty() || surface_.touches_edge() || !travel(moved) ||
-      moved.norm() <= params_.arbiter.travel_mps * 1000 * kTravelFrames * params_.arbiter.frame_s)
-    return false;
+  if (points.empty() || surface_.touches_edge() || !travel(moved)) return false;
   double top = 0;
   for (const Eigen::Vector3f& p : points) top = std::max(top, static_cast<double>(p.z()));
   top += 0.5 * surface_.voxel_mm();  // the top voxel's centre to its top face
@@ -216,16 +247,17 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const bool have_median = score_median_.count() >= 8;
   // A disagreement is checked: the tracked pose may be the wrong one (ArbiterParams).
   const double agree_mm = a.agree_ratio * body_.model().stature_mm();
-  if (detected != nullptr && !reacquired_ &&
+  const JointPositions* reading = reading_for(det, r->joints);
+  if (reading != nullptr && !reacquired_ &&
       (!have_median || r->score.value() < a.check_fraction * median_score_ ||
-       mean_displacement(*detected, r->joints) > agree_mm)) {
+       mean_displacement(*reading, r->joints) > agree_mm)) {
     checked_ = true;
-    if (try_candidate(*detected, r->score.value())) {
+    if (try_candidate(*reading, r->score.value())) {
       reacquired_ = true;
       r = &tracker_.result();
     }
   }
-  if (detected != nullptr && !reacquired_ && try_limbs(*detected, before)) r = &tracker_.result();
+  if (reading != nullptr && !reacquired_ && try_limbs(*reading, before)) r = &tracker_.result();
   score_ = r->score.value();
   const double floor = have_median ? a.valid_fraction * median_score_ : a.min_score;
   const bool cut_off = surface_.touches_edge();

@@ -59,6 +59,7 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
   out_.frame_stature_mm = 0;
   out_.shake_iterations = 0;
   out_.fit_us = 0;
+  out_.has_guess = false;
   StageTimer timer;
   const LabelledTree& tree = builder_.build(skeleton, grid, hint_);
   out_.tree_us = timer.elapsed_us();
@@ -67,6 +68,19 @@ const PoseEstimate& PoseEstimator::estimate(std::span<const Eigen::Vector3i> ske
     return out_;
   }
   if (!tree.valid) {
+    if (params_.fit_low_rank && tree.low_rank) {
+      timer.restart();
+      // At the running stature once it has settled, else at the tree's own.
+      const double stature = stature_.count() >= params_.stature_settle_frames
+                                 ? out_.stature_mm
+                                 : fitter_.frame_stature(tree);
+      if (stature >= params_.min_stature_mm && stature <= params_.max_stature_mm) {
+        const FitResult& fit = fitter_.fit(tree, stature);
+        out_.has_guess = fit.ok;
+        if (fit.ok) out_.guess_mm = fit.joints;
+      }
+      out_.fit_us = timer.elapsed_us();
+    }
     reuse(Msg::REASON_INVALID_TREE, tree.why);
     return out_;
   }

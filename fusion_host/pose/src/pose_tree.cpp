@@ -723,7 +723,14 @@ const LabelledTree& PoseTreeBuilder::build(std::span<const Eigen::Vector3i> voxe
   trace_paths(best);
 
   const char* why = rejection(best);
-  if (why == nullptr && !orient(hint, longest / ratio::kLongestPath)) why = "no forward direction";
+  // A labelling rejected on its rank alone is complete: it is oriented too, so that it can be
+  // fitted as a guess (LabelledTree::low_rank).
+  const bool rank_only = why != nullptr && tree_.pelvis != best.origin;
+  if (why == nullptr || rank_only) {
+    const bool oriented = orient(hint, longest / ratio::kLongestPath);
+    if (why == nullptr && !oriented) why = "no forward direction";
+    tree_.low_rank = rank_only && oriented;
+  }
   if (why != nullptr) {
     invalidate(why);
     const auto& paths = tree_.limb_path;
@@ -740,7 +747,7 @@ void PoseTreeBuilder::reset(double voxel_mm) {
   tree_.why = "";
   tree_.origin = tree_.pelvis = -1;
   tree_.quality = 0;
-  tree_.used_temporal_labels = tree_.forward_from_previous = false;
+  tree_.used_temporal_labels = tree_.forward_from_previous = tree_.low_rank = false;
   tree_.voxel_mm = voxel_mm;
   tree_.torso_path.clear();
   for (auto& p : tree_.limb_path) p.clear();
@@ -805,7 +812,8 @@ void PoseTreeBuilder::trace_paths(const Ranked& best) {
   std::reverse(tree_.torso_path.begin(), tree_.torso_path.end());
 }
 
-// Why the labelling is not a body, or nullptr.
+// Why the labelling is not a body, or nullptr. The rank checks come after the torso's: a
+// labelling that fails only them is a complete one (build() keeps it as low_rank).
 const char* PoseTreeBuilder::rejection(const Ranked& best) const {
   if (tree_.pelvis == best.origin) return "no torso between the arms and the legs";
   if (best.quality < params_.min_quality) return "labelling ranks below the minimum quality";

@@ -9,8 +9,9 @@
 //   every frame the tracked pose is scored against the hull beside the bottom-up one (when
 //   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
 //   tracked pose no longer explains it (drift); bottom-up arms and legs take over one at a time
-//   when the pose with them explains the hull better (try_limbs). Output optionally through a
-//   causal One Euro filter (HullPoseParams::filter, off by default).
+//   when the pose with them explains the hull better (try_limbs). Where the bottom-up path has
+//   no valid reading, its low-ranked labelling (a guess) is tested the same way (reading_for).
+//   Output optionally through a causal One Euro filter (HullPoseParams::filter, off by default).
 //
 // Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
 // at steady state.
@@ -98,8 +99,11 @@ class HullPoseEstimator {
   bool try_limbs(const JointPositions& detected, const HullTracker::State& before);
   bool acquire_from_hull();
   // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
-  // that many consecutive frames had a hull.
+  // that many consecutive frames had a hull, or when it moved slower than travel_mps.
   bool travel(Eigen::Vector2d& mm) const;
+  // Cosine between the horizontal front of `x` and the hull's travel; 0 without travel.
+  double travel_facing(const JointPositions& x) const;
+  const JointPositions* reading_for(const PoseEstimate& det, const JointPositions& tracked) const;
   double start_stature(const PoseEstimate& det);
 
   HullPoseParams params_;

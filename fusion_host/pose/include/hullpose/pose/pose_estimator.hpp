@@ -35,6 +35,11 @@ struct PoseParams {
   double stature_tolerance = 0.2;
   int stature_settle_frames = 10;
   double min_stature_mm = 800, max_stature_mm = 2500;
+  // Fit a low-ranked labelling (LabelledTree::low_rank) too, as PoseEstimate::guess_mm (at the
+  // running stature, or the tree's own until it has settled). The frame stays invalid; the tracking
+  // stage tests the guess against the hull (HullPoseEstimator). Off for the bottom-up path alone:
+  // nothing would use it.
+  bool fit_low_rank = false;
 };
 
 struct PoseEstimate {
@@ -51,6 +56,9 @@ struct PoseEstimate {
   double frame_stature_mm = 0;  // this frame's own estimate (0 without a valid tree)
   int shake_iterations = 0;
   int64_t tree_us = 0, fit_us = 0;  // stage timings
+  // This frame's low-ranked labelling, fitted (PoseParams::fit_low_rank); only when !valid.
+  bool has_guess = false;
+  JointPositions guess_mm{};
 };
 
 class PoseEstimator {

@@ -116,6 +116,10 @@ struct LabelledTree {
   double leg_margin_mm = 0;                          // legs: lateral separation of the thighs
   bool used_temporal_labels = false;
   bool forward_from_previous = false;
+  // Not valid, but complete (a torso, five extremities, left and right settled): the labelling
+  // ranks below min_quality or one limb below min_factor. A guess, not a reading
+  // (PoseParams::fit_low_rank).
+  bool low_rank = false;
 };
 
 class PoseTreeBuilder {
