@@ -65,13 +65,14 @@ double HullPoseEstimator::travel_facing(const JointPositions& x) const {
 
 // Which reading the tracked pose is tested against (try_candidate, try_limbs): the valid one,
 // or else the bottom-up path's guess (PoseEstimate::guess_mm: a labelling that ranks too low to
-// be valid, which the hull may still prefer; most are where the tree's limb branches are short
-// or merged, which is where the tracker needs help most). A guess has no say in which way the
-// body faces (its left and right are the least certain part of it): one that turns the tracked
-// pose round is only tested where the tracked pose faces against the hull's travel and the guess
-// along it (a walking subject faces where it goes, as in acquire_from_hull). Without this rule
-// such guesses turned the salsa clip 60_01 backwards for 60 frames; with it, 131_01's re-entry
-// (at 128^3 tracked backwards for eight frames, 300 mm off) is turned round on its third frame.
+// be valid, which the hull may still prefer: a labelling ranks low where its limb branches are
+// far from their expected lengths, short or merged, where the tracker needs help most). A guess has
+// no say in which way the body faces (its left and right are the least certain part of it): one
+// that turns the tracked pose round is only tested where the tracked pose faces against the hull's
+// travel and the guess along it (a walking subject faces where it goes, as in acquire_from_hull).
+// Without this rule such guesses turned the salsa clip 60_01 backwards for about 40 frames; with
+// it, 131_01's re-entry (at 128^3 tracked backwards for eight frames, 300 mm off) is turned round
+// on its third frame.
 const JointPositions* HullPoseEstimator::reading_for(const PoseEstimate& det,
                                                      const JointPositions& tracked) const {
   if (det.valid) return &det.joints_mm;
