@@ -20,6 +20,11 @@ Eigen::Vector2d left_to_right(const JointPositions& x) {
       .head<2>();
 }
 
+// Whether two poses have their left and right on the same sides, seen from above.
+bool faces_same_way(const JointPositions& a, const JointPositions& b) {
+  return left_to_right(a).dot(left_to_right(b)) > 0;
+}
+
 PoseParams with_guesses(PoseParams p, bool on) {
   p.fit_low_rank = on;
   return p;
@@ -78,8 +83,8 @@ const JointPositions* HullPoseEstimator::reading_for(const PoseEstimate& det,
   if (det.valid) return &det.joints_mm;
   if (!det.has_guess) return nullptr;
   constexpr double kAgainst = -0.5;  // front more than 120 deg from the travel
-  const bool same_way = left_to_right(det.guess_mm).dot(left_to_right(tracked)) > 0;
-  if (same_way || (travel_facing(tracked) < kAgainst && travel_facing(det.guess_mm) > 0))
+  if (faces_same_way(det.guess_mm, tracked) ||
+      (travel_facing(tracked) < kAgainst && travel_facing(det.guess_mm) > 0))
     return &det.guess_mm;
   return nullptr;
 }
@@ -140,9 +145,8 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tra
 // of the body and its velocity are kept, which a restart from the whole bottom-up pose would
 // lose. A reading that faces the other way has its left and right the other way round too: none
 // of its limbs is tried. At most 4 + 3 + 2 + 1 trackings, in frames where limbs disagree.
-bool HullPoseEstimator::try_limbs(const JointPositions& detected,
-                                  const HullTracker::State& before) {
-  if (left_to_right(detected).dot(left_to_right(tracker_.result().joints)) <= 0) return false;
+bool HullPoseEstimator::try_limbs(const JointPositions& reading, const HullTracker::State& before) {
+  if (!faces_same_way(reading, tracker_.result().joints)) return false;
   const double far = params_.track.detect_agree_ratio * body_.model().stature_mm();
   unsigned taken = 0;
   for (;;) {
@@ -152,9 +156,9 @@ bool HullPoseEstimator::try_limbs(const JointPositions& detected,
     for (size_t i = 0; i < kLimbs.size(); ++i) {
       const unsigned bit = 1u << i;
       const int tip = index(kLimbs[i].tip());
-      if ((taken & bit) != 0 || (detected[tip] - now.joints[tip]).norm() <= far) continue;
+      if ((taken & bit) != 0 || (reading[tip] - now.joints[tip]).norm() <= far) continue;
       limb_.restore(before);
-      const HullScore& c = limb_.track(surface_, body_.model(), {&detected, taken | bit}).score;
+      const HullScore& c = limb_.track(surface_, body_.model(), {&reading, taken | bit}).score;
       if (c.explained < now.score.explained || c.inside < now.score.inside || c.value() <= best)
         continue;
       best = c.value();

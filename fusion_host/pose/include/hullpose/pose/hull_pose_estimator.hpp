@@ -96,7 +96,7 @@ class HullPoseEstimator {
 
  private:
   bool try_candidate(const JointPositions& detected, double tracked_score);
-  bool try_limbs(const JointPositions& detected, const HullTracker::State& before);
+  bool try_limbs(const JointPositions& reading, const HullTracker::State& before);
   bool acquire_from_hull();
   // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
   // that many consecutive frames had a hull, or when it moved slower than travel_mps.
