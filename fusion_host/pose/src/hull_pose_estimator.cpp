@@ -25,6 +25,17 @@ bool faces_same_way(const JointPositions& a, const JointPositions& b) {
   return left_to_right(a).dot(left_to_right(b)) > 0;
 }
 
+// Mean distance (mm) between the trunks of two poses: the joints the limbs hang from (head,
+// neck, spine, shoulders, hips).
+double trunk_displacement(const JointPositions& a, const JointPositions& b) {
+  static constexpr std::array<Joint, 10> kTrunk = {
+      Joint::Head,  Joint::Neck, Joint::Chest, Joint::LSho, Joint::RSho,
+      Joint::UBack, Joint::Back, Joint::LBack, Joint::LHip, Joint::RHip};
+  double sum = 0;
+  for (Joint j : kTrunk) sum += (a[index(j)] - b[index(j)]).norm();
+  return sum / static_cast<double>(kTrunk.size());
+}
+
 PoseParams with_guesses(PoseParams p, bool on) {
   p.fit_low_rank = on;
   return p;
@@ -123,11 +134,23 @@ bool HullPoseEstimator::acquire_from_hull() {
 }
 
 // Tracks from the bottom-up pose on a second tracker; takes it over when it explains the hull
-// clearly better than the tracked pose.
-bool HullPoseEstimator::try_candidate(const JointPositions& detected, double tracked_score) {
+// clearly better than the tracked pose. Where the two trunks agree (trunk_displacement within
+// agree_ratio), the readings differ in their limbs only, and the switch is judged as try_limbs()
+// judges a limb: neither part of the score may fall. On the product alone, a reading that folds
+// an arm into the torso replaced a tracked arm that was right (01_01 frame 152 at 128^3: the
+// folded arm put more of the bones inside the hull, 0.78 -> 0.92 of the samples, and explained
+// less of it, 0.92 -> 0.90; the elbow then stayed 400-440 mm off for eight frames). A reading
+// whose trunk is elsewhere (a pose tracked backwards, a re-entry) is still taken on the product
+// alone: with the explained part held on every switch, 131_01's re-entry at 128^3 stayed ~300 mm
+// off for five frames (docs/perf-log.md, session 21).
+bool HullPoseEstimator::try_candidate(const JointPositions& detected, const HullScore& tracked) {
   candidate_.start(detected);
   const TrackResult& c = candidate_.track(surface_, body_.model(), {&detected});
-  if (c.score.value() <= tracked_score + params_.arbiter.switch_margin) return false;
+  if (c.score.value() <= tracked.value() + params_.arbiter.switch_margin) return false;
+  const bool limbs_only = trunk_displacement(detected, tracker_.result().joints) <=
+                          params_.arbiter.agree_ratio * body_.model().stature_mm();
+  if (limbs_only && (c.score.explained < tracked.explained || c.score.inside < tracked.inside))
+    return false;
   tracker_ = candidate_;
   return true;
 }
@@ -257,7 +280,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
       (!have_median || r->score.value() < a.check_fraction * median_score_ ||
        mean_displacement(*reading, r->joints) > agree_mm)) {
     checked_ = true;
-    if (try_candidate(*reading, r->score.value())) {
+    if (try_candidate(*reading, r->score)) {
       reacquired_ = true;
       r = &tracker_.result();
     }

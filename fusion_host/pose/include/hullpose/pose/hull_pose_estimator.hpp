@@ -95,7 +95,7 @@ class HullPoseEstimator {
   double score() const { return score_; }
 
  private:
-  bool try_candidate(const JointPositions& detected, double tracked_score);
+  bool try_candidate(const JointPositions& detected, const HullScore& tracked);
   bool try_limbs(const JointPositions& reading, const HullTracker::State& before);
   bool acquire_from_hull();
   // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
