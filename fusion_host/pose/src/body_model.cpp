@@ -56,9 +56,10 @@ void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBo
   }
 }
 
-JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, double yaw) {
+JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, double yaw,
+                             double sole_z, double arm_rad) {
   // Each bone's direction from its parent joint, x forward, y to the subject's left, z up.
-  auto direction = [](Joint child) -> Eigen::Vector3d {
+  auto direction = [arm_rad](Joint child) -> Eigen::Vector3d {
     switch (child) {
       case Joint::Neck:
       case Joint::Head:
@@ -71,7 +72,9 @@ JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, 
       case Joint::RElb:
       case Joint::LHand:
       case Joint::RHand:
-        return {0, 0.1, -1};  // hanging, clear of the trunk
+      case Joint::LFTip:
+      case Joint::RFTip:
+        return {0, std::sin(arm_rad), -std::cos(arm_rad)};
       case Joint::LHip:
       case Joint::RHip:
         return {0, 1, -0.8};
@@ -81,7 +84,7 @@ JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, 
       case Joint::LToe:
       case Joint::RToe:
         return {1, 0, 0};
-      default:  // the spine from the chest down, the legs, the hands
+      default:  // the spine from the chest down, the legs
         return {0, 0, -1};
     }
   };
@@ -106,7 +109,7 @@ JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, 
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   for (Eigen::Vector3d& j : p)
     j = turn * Eigen::Vector3d(j.x() - pelvis.x(), j.y() - pelvis.y(), j.z() - sole) +
-        Eigen::Vector3d(xy.x(), xy.y(), 0);
+        Eigen::Vector3d(xy.x(), xy.y(), sole_z);
   return p;
 }
 

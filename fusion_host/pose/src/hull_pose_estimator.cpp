@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hullpose_msg/skeleton_t.hpp>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -52,6 +53,7 @@ HullPoseEstimator::HullPoseEstimator(HullPoseParams params)
     : params_(params),
       bottom_up_(with_guesses(params.bottom_up, params.mode == PoseMode::kTrack)),
       surface_(params.track.max_points),
+      feet_(params.feet),
       tracker_(params.track),
       candidate_(params.track),
       limb_(params.track),
@@ -102,32 +104,53 @@ const JointPositions* HullPoseEstimator::reading_for(const PoseEstimate& det,
 
 // Acquisition from the hull alone, for a subject the tree cannot read yet (arms held against the
 // body give the curve skeleton no arm branches; a subject walking in at the volume's edge). The
-// hull of an upright body is nearly the same seen from the front and from the back, so the hull
+// hull of an upright body is nearly the same seen from the front and from the back, so the fit
 // alone cannot say which way the subject faces (tried on the shared clips: facing chosen by the
 // better fit of all eight, the salsa clip 60_01 at 64^3 was read backwards, left for right, for
-// 69 frames). A subject walking faces where it goes: only a hull that travels (travel_mps) is
-// acquired, the model standing upright (its stature from the hull's top, standing_pose()) over
-// the hull's centroid is tracked from facings about the heading, and the best is kept when it
-// explains the hull as an acquisition must (min_score).
-bool HullPoseEstimator::acquire_from_hull() {
+// 69 frames). Two cues can: a subject walking faces where it goes (a hull that travels,
+// travel_mps), and one that stands has its toes in front of its legs (FootFacing). The model
+// standing upright (standing_pose(), its stature from the hull's height) over the hull's
+// centroid is tracked from facings about that heading and three arm poses, and the best is kept
+// when it explains the hull as an acquisition must (min_score).
+bool HullPoseEstimator::acquire_from_hull(const fusion::BitGrid& hull, const VoxelGridSpec& grid) {
   const auto points = surface_.points();
-  Eigen::Vector2d moved;
-  if (points.empty() || surface_.touches_edge() || !travel(moved)) return false;
-  double top = 0;
-  for (const Eigen::Vector3f& p : points) top = std::max(top, static_cast<double>(p.z()));
-  top += 0.5 * surface_.voxel_mm();  // the top voxel's centre to its top face
-  if (!body_.started()) body_.reset(top / standing_height_ratio_);
-  const double heading = std::atan2(moved.y(), moved.x());
-  constexpr double kDeg = std::numbers::pi / 180;
-  double best = -1;
-  for (double turn : {-60.0, -30.0, 0.0, 30.0, 60.0}) {  // a step sideways still faces ahead
-    candidate_.start(standing_pose(body_.model(), centroid_[newest_], heading + turn * kDeg));
-    const double score = candidate_.track(surface_, body_.model(), {}).score.value();
-    if (score > best) {
-      best = score;
-      tracker_ = candidate_;
-    }
+  if (points.empty() || surface_.touches_edge()) return false;
+  // The subject stands on the hull's bottom (the floor, or a step) where the hull shows its feet;
+  // a hull without them (carved away, out of some view) stands on the floor.
+  double top = 0, bottom = std::numeric_limits<double>::max();
+  for (const Eigen::Vector3f& p : points) {
+    top = std::max(top, static_cast<double>(p.z()));
+    bottom = std::min(bottom, static_cast<double>(p.z()));
   }
+  top += 0.5 * surface_.voxel_mm();  // voxel centres to the faces
+  bottom -= 0.5 * surface_.voxel_mm();
+  Eigen::Vector2d toes, toward;  // where its toes point; where it goes, or else the toes' way
+  const bool feet = feet_.measure(hull, grid, (top - bottom) / standing_height_ratio_, toes);
+  if (!feet) bottom = 0;
+  if (!travel(toward)) {
+    if (!feet) return false;
+    toward = toes;
+  }
+  if (!body_.started()) body_.reset((top - bottom) / standing_height_ratio_);
+  const double heading = std::atan2(toward.y(), toward.x());
+  constexpr double kDeg = std::numbers::pi / 180;
+  // Arms hanging, half raised, or spread in a T (where takes start): the fit turns a limb only
+  // so far from where it starts, and arms started hanging stay down beside spread ones. Raised
+  // arms replace lower ones only where they explain the hull clearly better (switch_margin): on
+  // a subject whose arms hang both explain it alike, and the half-raised start tracked worse.
+  double best = -1, best_arms = 0;
+  for (double arms : {kHangingArmRad, std::numbers::pi / 4, std::numbers::pi / 2})
+    for (double turn : {-60.0, -30.0, 0.0, 30.0, 60.0}) {  // a side step; turned-out feet
+      candidate_.start(
+          standing_pose(body_.model(), centroid_[newest_], heading + turn * kDeg, bottom, arms));
+      const double score = candidate_.track(surface_, body_.model(), {}).score.value();
+      const double margin = arms != best_arms ? params_.arbiter.switch_margin : 0;
+      if (best < 0 || score > best + margin) {
+        best = score;
+        best_arms = arms;
+        tracker_ = candidate_;
+      }
+    }
   if (best >= params_.arbiter.min_score) return true;
   tracker_.stop();
   return false;
@@ -256,7 +279,7 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     from_hull_ = false;
     if (det.valid) {
       tracker_.start(det.joints_mm);
-    } else if (acquire_from_hull()) {
+    } else if (hull != nullptr && acquire_from_hull(*hull, grid)) {
       from_hull_ = true;
     } else {
       out_.fit_us += timer.elapsed_us();

@@ -48,10 +48,14 @@ Eigen::Vector3d capsule_end(int bone, const Eigen::Vector3d& parent, const Eigen
 // A zero-length bone keeps its child on the parent.
 void impose_bone_lengths(JointPositions& joints, const std::array<double, kNumBones>& length_mm);
 
-// The model standing upright with its soles on the floor (z = 0, docs/conventions.md), its pelvis
-// over `xy`, facing `yaw` (radians from +x towards +y), legs straight and arms hanging at its
-// sides: where an acquisition from the hull alone starts (HullPoseEstimator).
-JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, double yaw);
+// The model standing upright with its soles at height `sole_z` (mm; the floor is z = 0,
+// docs/conventions.md), its pelvis over `xy`, facing `yaw` (radians from +x towards +y), legs
+// straight, arms straight and raised sideways `arm_rad` from hanging (the default, ~6 degrees,
+// hangs them clear of the trunk; pi/2 is a T-pose): where an acquisition from the hull alone
+// starts (HullPoseEstimator).
+inline constexpr double kHangingArmRad = 0.1;
+JointPositions standing_pose(const BodyModel& model, const Eigen::Vector2d& xy, double yaw,
+                             double sole_z = 0, double arm_rad = kHangingArmRad);
 
 // One frame's Gauss-Newton evidence on the 24 bone lengths: the normal equations (hessian =
 // sum of w J J^T, gradient = sum of w r J) of the fit's residuals r in both directions (the

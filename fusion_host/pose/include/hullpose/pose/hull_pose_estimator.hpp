@@ -3,8 +3,9 @@
 //
 // Two ways, chosen by HullPoseParams::mode (`--pose`):
 // - bottom-up: the thesis' per-frame path alone (PoseEstimator: tree, labels, SHAKE);
-// - track (default): the bottom-up path acquires and re-acquires (a walking subject it cannot read
-//   yet is acquired from the hull until it can: acquire_from_hull); between, the subject's body
+// - track (default): the bottom-up path acquires and re-acquires (a subject it cannot read yet is
+//   acquired from the hull until it can, facing where it walks or where its toes point:
+//   acquire_from_hull); between, the subject's body
 //   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
 //   every frame the tracked pose is scored against the hull beside the bottom-up one (when
 //   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
@@ -22,6 +23,7 @@
 #include "hullpose/common/voxel_grid.hpp"
 #include "hullpose/fusion/bit_grid.hpp"
 #include "hullpose/pose/body_model.hpp"
+#include "hullpose/pose/foot_facing.hpp"
 #include "hullpose/pose/hull_tracker.hpp"
 #include "hullpose/pose/one_euro.hpp"
 #include "hullpose/pose/pose_estimator.hpp"
@@ -59,9 +61,10 @@ struct ArbiterParams {
   // 3.5-7 s on 55_01, 01_01 and 131_02).
   double model_fraction = 0.85;
   double frame_s = 1.0 / 30;  // frame interval for the filter (the rig's rate)
-  // Acquisition from the hull alone (HullPoseEstimator::acquire_from_hull) needs a hull moving
-  // faster than this (m/s, over the last kTravelFrames frames): the subject is taken to face
-  // where it goes, within 60 deg. Walking is 1-1.5 m/s, a standing subject's sway well under 0.1.
+  // Acquisition from the hull alone (HullPoseEstimator::acquire_from_hull) takes a subject whose
+  // hull moves faster than this (m/s, over the last kTravelFrames frames) to face where it goes,
+  // within 60 deg; slower, to face where its toes point (FootFacing). Walking is 1-1.5 m/s, a
+  // standing subject's sway well under 0.1.
   double travel_mps = 0.3;
 };
 
@@ -71,6 +74,7 @@ struct HullPoseParams {
   TrackParams track;
   BodyModelParams body;
   ArbiterParams arbiter;
+  FootFacingParams feet;
   OneEuroParams filter;
 };
 
@@ -97,7 +101,7 @@ class HullPoseEstimator {
  private:
   bool try_candidate(const JointPositions& detected, const HullScore& tracked);
   bool try_limbs(const JointPositions& reading, const HullTracker::State& before);
-  bool acquire_from_hull();
+  bool acquire_from_hull(const fusion::BitGrid& hull, const VoxelGridSpec& grid);
   // Where the hull's centroid (x, y) went over the last kTravelFrames frames (mm); false until
   // that many consecutive frames had a hull, or when it moved slower than travel_mps.
   bool travel(Eigen::Vector2d& mm) const;
@@ -109,6 +113,7 @@ class HullPoseEstimator {
   HullPoseParams params_;
   PoseEstimator bottom_up_;
   HullSurface surface_;
+  FootFacing feet_;  // acquire_from_hull()'s facing for a subject that does not travel
   HullTracker tracker_, candidate_;
   HullTracker limb_, best_limb_;  // try_limbs()'s: the one being tried, the best so far
   BodyModelEstimator body_;
