@@ -5,13 +5,13 @@
 // - bottom-up: the thesis' per-frame path alone (PoseEstimator: tree, labels, SHAKE);
 // - track (default): the bottom-up path acquires and re-acquires (a subject it cannot read yet is
 //   acquired from the hull until it can, facing where it walks or where its toes point:
-//   acquire_from_hull); between, the subject's body
-//   model (body_model.hpp, estimated online) is tracked on the hull (hull_tracker.hpp), and
-//   every frame the tracked pose is scored against the hull beside the bottom-up one (when
-//   valid): the bottom-up pose takes over when it explains the hull clearly better, or when the
-//   tracked pose no longer explains it (drift); bottom-up arms and legs take over one at a time
-//   when the pose with them explains the hull better (try_limbs). Where the bottom-up path has
-//   no valid reading, its low-ranked labelling (a guess) is tested the same way (reading_for).
+//   acquire_from_hull); between, the subject's body model (body_model.hpp, estimated online) is
+//   tracked on the hull (hull_tracker.hpp), and every frame the tracked pose is scored against
+//   the hull beside the bottom-up one (when valid): the bottom-up pose takes over when it
+//   explains the hull clearly better, or when the tracked pose no longer explains it (drift);
+//   bottom-up arms and legs take over one at a time when the pose with them explains the hull
+//   better (try_limbs). Where the bottom-up path has no valid reading, its low-ranked labelling
+//   (a guess) is tested the same way (reading_for).
 //   Output optionally through a causal One Euro filter (HullPoseParams::filter, off by default).
 //
 // Lifecycle: construct once per subject/stream; estimate() per frame; no allocation per frame
