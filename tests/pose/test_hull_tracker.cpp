@@ -347,6 +347,35 @@ TEST_CASE("a subject seen in few confident frames is held after hold_after_frame
   CHECK(est.version() == 1);
 }
 
+TEST_CASE("lean_head_on_trunk turns the head halfway to the trunk's axis, about the Head joint") {
+  const JointPositions upright = stick_figure(kStature, arms_down());
+  const Eigen::Vector3d head = upright[index(Joint::Head)];
+  const double len = (upright[index(Joint::HeadTop)] - head).norm();
+  // The head tipped 60 deg forward (+y) on an upright trunk.
+  JointPositions tipped = upright;
+  tipped[index(Joint::HeadTop)] = head + len * Eigen::Vector3d(0, std::sin(std::numbers::pi / 3),
+                                                               std::cos(std::numbers::pi / 3));
+  JointPositions leaned = tipped;
+  lean_head_on_trunk(leaned, 0.5);
+  const Eigen::Vector3d d = leaned[index(Joint::HeadTop)] - head;
+  CHECK(d.norm() == Approx(len).margin(1e-9));
+  CHECK(std::atan2(d.y(), d.z()) * 180 / std::numbers::pi == Approx(30).margin(1e-9));
+  for (int j = 0; j < kNumJoints; ++j)
+    if (j != index(Joint::HeadTop)) CHECK(leaned[j] == tipped[j]);
+  // Weight 0 keeps the head as it is; 1 puts it on the trunk's axis (here the vertical).
+  JointPositions kept = tipped, onto = tipped;
+  lean_head_on_trunk(kept, 0);
+  lean_head_on_trunk(onto, 1);
+  CHECK((kept[index(Joint::HeadTop)] - tipped[index(Joint::HeadTop)]).norm() < 1e-9);
+  CHECK((onto[index(Joint::HeadTop)] - (head + Eigen::Vector3d(0, 0, len))).norm() < 1e-9);
+  // A head pointing straight against the trunk has no mean direction: left as it is.
+  JointPositions against = upright;
+  against[index(Joint::HeadTop)] = head - Eigen::Vector3d(0, 0, len);
+  const JointPositions before = against;
+  lean_head_on_trunk(against, 0.5);
+  CHECK(against[index(Joint::HeadTop)] == before[index(Joint::HeadTop)]);
+}
+
 TEST_CASE("impose_bone_lengths keeps directions and gives the model's lengths") {
   const BodyModel m = BodyModel::from_stature(1700);
   JointPositions pose = stick_figure(1700, arms_down());

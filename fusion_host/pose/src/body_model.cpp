@@ -133,6 +133,18 @@ void swap_arms(JointPositions& joints) {
     std::swap(joints[index(l)], joints[index(r)]);
 }
 
+void lean_head_on_trunk(JointPositions& joints, double trunk_weight) {
+  const Eigen::Vector3d& head = joints[index(Joint::Head)];
+  const Eigen::Vector3d trunk = joints[index(Joint::Chest)] - joints[index(Joint::LBack)];
+  Eigen::Vector3d& top = joints[index(Joint::HeadTop)];
+  const double len = (top - head).norm();
+  if (len < 1e-9 || trunk.norm() < 1e-9) return;
+  const Eigen::Vector3d d =
+      (1 - trunk_weight) * (top - head) / len + trunk_weight * trunk.normalized();
+  if (d.norm() < 1e-9) return;
+  top = head + len * d.normalized();
+}
+
 BodyModel BodyModel::from_stature(double stature_mm) {
   BodyModel m;
   for (int b = 0; b < kNumBones; ++b) {

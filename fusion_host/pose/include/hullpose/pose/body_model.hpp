@@ -16,6 +16,10 @@ namespace hullpose::pose {
 double torso_twist(const JointPositions& joints);
 // Exchanges the left and right arms (shoulder to finger tip): same positions, labels swapped.
 void swap_arms(JointPositions& joints);
+// Turns the head (HeadTop about Head, its length kept) towards the trunk's axis (LBack -> Chest):
+// its direction becomes the unit mean of its own, weighted 1 - trunk_weight, and the trunk's
+// (unchanged where that mean vanishes or either direction is undefined).
+void lean_head_on_trunk(JointPositions& joints, double trunk_weight);
 
 struct BodyModel {
   std::array<double, kNumBones> length_mm{};

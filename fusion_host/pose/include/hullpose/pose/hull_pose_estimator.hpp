@@ -76,6 +76,9 @@ struct HullPoseParams {
   ArbiterParams arbiter;
   FootFacingParams feet;
   OneEuroParams filter;
+  // The published head's direction leans on the trunk's with this weight (lean_head_on_trunk;
+  // 0: as tracked). Why, in HullPoseEstimator::estimate.
+  double head_trunk_weight = 0.5;
 };
 
 class HullPoseEstimator {
