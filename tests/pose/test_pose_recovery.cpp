@@ -2,7 +2,9 @@
 // back on the subject within a bounded number of frames, and the garbage is flagged, not
 // published as a pose. Synthetic: a stick figure's skeleton and the hull of its capsules.
 #include <catch2/catch.hpp>
+#include <hullpose_msg/skeleton_t.hpp>
 #include <random>
+#include <string_view>
 
 #include "capsule_hull.hpp"
 #include "hullpose/pose/hull_pose_estimator.hpp"
@@ -203,6 +205,31 @@ TEST_CASE(
           check_left_is_left(e.joints_mm, truth);
         }
       }
+}
+
+TEST_CASE("a valid bottom-up reading that the hull contradicts is not published") {
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  HullPoseEstimator stage(stick_params());
+  fusion::BitGrid hull;
+  int f = 0;
+  for (; f < 15; ++f) {
+    const JointPositions truth = walk(f);
+    capsule_hull(g, truth, body, hull);
+    const PoseEstimate& e = stage.estimate(rasterise(g, truth), &hull, g);
+    if (f >= 5) CHECK(e.valid);
+  }
+  // The skeleton reads the walker where it was; the hull is 600 mm to the side (a skeleton
+  // mislabelled that badly: the tree's labels are valid, the hull has nothing there). The tracker
+  // is lost, restarts from the reading, and the reading refined on the hull explains none of it.
+  const JointPositions truth = walk(f);
+  const JointPositions elsewhere = stick_figure(kStature, swing(f), {0, 0, -200.0 + 10 * f, 600});
+  capsule_hull(g, elsewhere, body, hull);
+  const PoseEstimate& e = stage.estimate(rasterise(g, truth), &hull, g);
+  CHECK(stage.bottom_up().last().valid);
+  CHECK_FALSE(e.valid);
+  CHECK(e.reason == hullpose_msg::skeleton_t::REASON_FIT_FAILED);
+  CHECK(std::string_view(e.detail) == "bottom-up reading does not explain the hull");
 }
 
 TEST_CASE("labellings that rank too low to be valid still correct the tracked limbs") {

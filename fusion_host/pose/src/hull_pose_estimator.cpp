@@ -313,9 +313,8 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   const double floor = have_median ? a.valid_fraction * median_score_ : a.min_score;
   const bool cut_off = surface_.touches_edge();
   const bool tracked_ok = !surface_.empty() && score_ >= std::max(floor, 0.0) && !cut_off;
-  // The bottom-up path's acceptance stands: when the tracked pose no longer explains the hull
-  // and a valid detection exists, the tracker was lost: it restarts from the detection, refined
-  // on the hull. Tracking adds frames the bottom-up path misses; it never vetoes one it reads.
+  // When the tracked pose no longer explains the hull and a valid detection exists, the tracker
+  // was lost: it restarts from the detection, refined on the hull.
   if (!tracked_ok && detected != nullptr && !reacquired_) {
     if (!checked_) {
       candidate_.start(*detected);
@@ -327,7 +326,13 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     reacquired_ = true;
     score_ = r->score.value();
   }
-  const bool good = tracked_ok || det.valid;
+  // Whichever path the pose came from, it is published only if it explains the hull as well as
+  // tracked frames usually do. A valid bottom-up reading that, refined on the hull, still does not
+  // is wrong: on the shared clips at 128^3 all six such frames were 71-297 mm off (131_01's
+  // kneeling subject with its legs read forward). A valid reading still vouches for a hull that
+  // the capture volume cuts off (tracking alone does not publish those).
+  const bool explains = !surface_.empty() && score_ >= std::max(floor, 0.0);
+  const bool good = tracked_ok || (det.valid && explains);
   // A hull-acquired pose that stops explaining the hull is searched for afresh next frame.
   if (from_hull_ && !tracked_ok) tracker_.stop();
   // The score's typical level follows the motion (a cartwheel explains its hull less well than
@@ -370,8 +375,9 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     out_.detail = "";
   } else if (det.valid || det.reason == Msg::REASON_OK) {
     out_.reason = Msg::REASON_FIT_FAILED;
-    out_.detail =
-        cut_off ? "hull cut off by the capture volume" : "tracked pose does not explain the hull";
+    out_.detail = cut_off     ? "hull cut off by the capture volume"
+                  : det.valid ? "bottom-up reading does not explain the hull"
+                              : "tracked pose does not explain the hull";
   }
   if (!good) out_.confidence.fill(0);
   out_.fit_us += timer.elapsed_us();
