@@ -219,9 +219,9 @@ TEST_CASE("a valid bottom-up reading that the hull contradicts is not published"
     const PoseEstimate& e = stage.estimate(rasterise(g, truth), &hull, g);
     if (f >= 5) CHECK(e.valid);
   }
-  // The skeleton reads the walker where it was; the hull is 600 mm to the side (a skeleton
-  // mislabelled that badly: the tree's labels are valid, the hull has nothing there). The tracker
-  // is lost, restarts from the reading, and the reading refined on the hull explains none of it.
+  // The skeleton reads the walker where it was; the hull lies 600 mm to the side. The tree's
+  // reading is valid, but the hull has nothing where it puts the body: the tracker is lost,
+  // restarts from the reading, and the reading refined on the hull explains none of it.
   const JointPositions truth = walk(f);
   const JointPositions elsewhere = stick_figure(kStature, swing(f), {0, 0, -200.0 + 10 * f, 600});
   capsule_hull(g, elsewhere, body, hull);
