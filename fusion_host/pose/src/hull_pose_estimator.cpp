@@ -327,11 +327,14 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     score_ = r->score.value();
   }
   // Whichever path the pose came from, it is published only if it explains the hull as well as
-  // tracked frames usually do. A valid bottom-up reading that, refined on the hull, still does not
-  // is wrong: on the shared clips at 128^3 all six such frames were 71-297 mm off (131_01's
-  // kneeling subject with its legs read forward). A valid reading still vouches for a hull that
-  // the capture volume cuts off (tracking alone does not publish those).
-  const bool explains = !surface_.empty() && score_ >= std::max(floor, 0.0);
+  // the frames before it usually did. A valid bottom-up reading that, refined on the hull, still
+  // does not is wrong: on the shared clips at 128^3 all six such frames were 71-297 mm off
+  // (131_01's kneeling subject with its legs read forward). Until that usual level is known (the
+  // running median) the reading stands: a sparse rig's hull, mostly ghost volume, explains too
+  // little of any pose for an absolute floor (4 cameras at 64^3 scored under min_score on every
+  // frame, and nothing was published). A valid reading also vouches for a hull that the capture
+  // volume cuts off, which tracking alone does not publish.
+  const bool explains = !have_median || (!surface_.empty() && score_ >= floor);
   const bool good = tracked_ok || (det.valid && explains);
   // A hull-acquired pose that stops explaining the hull is searched for afresh next frame.
   if (from_hull_ && !tracked_ok) tracker_.stop();
