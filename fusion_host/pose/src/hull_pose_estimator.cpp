@@ -331,8 +331,8 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   // does not is wrong: on the shared clips at 128^3 all six such frames were 71-297 mm off
   // (131_01's kneeling subject with its legs read forward). Until that usual level is known (the
   // running median) the reading stands: a sparse rig's hull, mostly ghost volume, explains too
-  // little of any pose for an absolute floor (4 cameras at 64^3 scored under min_score on every
-  // frame, and nothing was published). A valid reading also vouches for a hull that the capture
+  // little of any pose for an absolute floor (held to min_score, the package test's rig of 4
+  // cameras at 64^3 published nothing). A valid reading also vouches for a hull that the capture
   // volume cuts off, which tracking alone does not publish.
   const bool explains = !have_median || (!surface_.empty() && score_ >= floor);
   const bool good = tracked_ok || (det.valid && explains);
