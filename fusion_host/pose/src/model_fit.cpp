@@ -97,26 +97,28 @@ double Shake::target_distance(Joint j, const Eigen::Vector3d& p) const {
 
 // One Gauss-Seidel sweep of algorithm 1 over all bones.
 template <bool kMeasure>
-double Shake::sweep_bones(JointPositions& x,
-                          const std::array<Eigen::Vector3d, kNumBones>& reference) const {
-  double worst = 0;
+bool Shake::sweep_bones(JointPositions& x, const std::array<Eigen::Vector3d, kNumBones>& reference,
+                        const std::array<std::array<double, 2>, kNumBones>* within) const {
+  bool all_within = true;
   for (int b = 0; b < kNumBones; ++b) {
     const int p = index(kBones[b].parent), c = index(kBones[b].child);
     const Eigen::Vector3d r = x[p] - x[c];
     const double l = length_[b];
-    const double sigma = r.squaredNorm() - l * l;  // the holonomic constraint, eq. 1
-    if constexpr (kMeasure) worst = std::max(worst, std::abs(r.norm() - l));
+    const double r2 = r.squaredNorm();
+    const double sigma = r2 - l * l;  // the holonomic constraint, eq. 1
+    if constexpr (kMeasure) all_within = all_within && r2 > (*within)[b][0] && r2 < (*within)[b][1];
     // Lagrange factor from sigma'' = 0 to first order; the reference vector is the bone before
     // this iteration's unconstrained move, unless that move turned it by more than ~60 degrees.
     Eigen::Vector3d ref = reference[b];
-    if (ref.dot(r) < 0.5 * ref.norm() * r.norm()) ref = r;
+    const double along = ref.dot(r);
+    if (along < 0 || along * along < 0.25 * ref.squaredNorm() * r2) ref = r;
     const double denom = 2 * (inv_mass_[p] + inv_mass_[c]) * ref.dot(r);
     if (std::abs(denom) < 1e-12) continue;
     const double a = sigma / denom;
     x[p] -= a * inv_mass_[p] * ref;
     x[c] += a * inv_mass_[c] * ref;
   }
-  return worst;
+  return all_within;
 }
 
 Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
@@ -146,7 +148,7 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
     }
     // A few sweeps per step are enough: the next step starts from nearly rigid bones, and the
     // final pass below makes them exact.
-    for (int s = 0; s < params.sweeps_per_iteration; ++s) sweep_bones<false>(x, reference);
+    for (int s = 0; s < params.sweeps_per_iteration; ++s) sweep_bones<false>(x, reference, nullptr);
     result.iterations = it + 1;
     // Converged when the pose settles: the pseudo-constraints pull against each other and
     // against the bones, so their pulls never vanish, but the equilibrium stops moving.
@@ -155,11 +157,16 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
     if (moved < params.tolerance_mm) break;
   }
   // Bones exactly to length at the end, whatever the pseudo-constraints did.
-  take_reference();
+  // |length - l| < tolerance as squared lengths: no square root per bone and sweep.
+  std::array<std::array<double, 2>, kNumBones> within;
+  for (int b = 0; b < kNumBones; ++b) {
+    const double lo = std::max(0.0, length_[b] - params.bone_tolerance_mm);
+    within[b] = {lo * lo, (length_[b] + params.bone_tolerance_mm) * (length_[b] + params.bone_tolerance_mm)};
+  }
   result.max_bone_error_mm = 0;
   for (int s = 0; s < params.max_bone_sweeps * params.final_sweep_factor; ++s) {
     take_reference();
-    if (sweep_bones<true>(x, reference) < params.bone_tolerance_mm) break;
+    if (sweep_bones<true>(x, reference, &within)) break;
   }
   for (int b = 0; b < kNumBones; ++b) {
     const double l = (x[index(kBones[b].parent)] - x[index(kBones[b].child)]).norm();

@@ -69,11 +69,11 @@ class Shake {
     bool is_point = false;
     double weight = 1;
   };
-  // One Gauss-Seidel sweep over the bones; with kMeasure, returns the largest length error seen
-  // before the sweep (the sweeps within an iteration do not need it: a square root per bone).
+  // One Gauss-Seidel sweep over the bones; with kMeasure, returns whether every bone was within
+  // its bounds before the sweep: (*within)[b] = the squared lengths it must lie strictly between.
   template <bool kMeasure>
-  double sweep_bones(JointPositions& joints,
-                     const std::array<Eigen::Vector3d, kNumBones>& reference) const;
+  bool sweep_bones(JointPositions& joints, const std::array<Eigen::Vector3d, kNumBones>& reference,
+                   const std::array<std::array<double, 2>, kNumBones>* within) const;
 
   std::array<double, kNumBones> length_{};
   std::array<double, kNumJoints> inv_mass_{};
