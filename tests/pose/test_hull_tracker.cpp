@@ -311,9 +311,9 @@ TEST_CASE("a frame's length evidence pulls in a bone that reaches beyond the hul
   TrackParams params;
   params.iterations = 0;  // the evidence at this pose, not at a fit of it
   HullTracker tracker(params);
-  tracker.set_measure_lengths(true);
   tracker.start(pose);
-  const LengthEvidence& e = tracker.track(surface, long_arm, {}).lengths;
+  tracker.track(surface, long_arm, {});
+  const LengthEvidence& e = tracker.length_evidence(surface, long_arm);
   REQUIRE(e.measured);
   CHECK(e.hessian(forearm, forearm) > 1);  // the frame measures that length (~0 without the half)
   // The frame's Gauss-Newton step on that length, the others held.

@@ -288,10 +288,6 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
     reacquired_ = true;
   }
   body_.tick();
-  tracker_.set_measure_lengths(!body_.held());
-  candidate_.set_measure_lengths(!body_.held());
-  limb_.set_measure_lengths(!body_.held());
-  best_limb_.set_measure_lengths(!body_.held());
   const JointPositions* detected = det.valid ? &det.joints_mm : nullptr;
   const HullTracker::State before = tracker_.state();
   const TrackResult* r = &tracker_.track(surface_, body_.model(), {detected});
@@ -344,8 +340,11 @@ const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i>
   // The body model learns from confident frames only: the tracked pose explains the hull as well
   // as usual and the independent bottom-up reading agrees with it.
   const bool agree = detected != nullptr && mean_displacement(*detected, r->joints) <= agree_mm;
-  if (tracked_ok && agree && score_ >= a.model_fraction * median_score_)
-    body_.add(r->lengths, r->radius_mm);
+  if (tracked_ok && agree && score_ >= a.model_fraction * median_score_) {
+    static const LengthEvidence kHeld;  // a held model takes no length evidence
+    body_.add(body_.held() ? kHeld : tracker_.length_evidence(surface_, body_.model()),
+              r->radius_mm);
+  }
 
   // A re-acquisition that moves the pose as far as paper 6's jump threshold starts the filter
   // afresh (smoothing across it would drag the old pose along); a smaller one is smoothed.

@@ -389,8 +389,6 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
       points.empty() ? 0 : static_cast<double>(explained) / static_cast<double>(points.size());
   result_.score.inside = inside_fraction(surface, model, x);
 
-  result_.lengths.measured = false;
-  if (measure_lengths_ && !points.empty()) measure_lengths(surface, model, hits);
   for (int b = 0; b < kNumBones; ++b)
     result_.radius_mm[b] =
         radial_n_[b] >= params_.full_support_points ? radial_sum_[b] / radial_n_[b] : kNaN;
@@ -416,6 +414,16 @@ void HullTracker::measure(const HullSurface& surface, const BodyModel& model) {
   for (int j = 0; j < kNumJoints; ++j)
     result_.confidence[j] =
         static_cast<float>(frame * (conf_n[j] > 0 ? conf_sum[j] / conf_n[j] : 0));
+}
+
+const LengthEvidence& HullTracker::length_evidence(const HullSurface& surface,
+                                                   const BodyModel& model) {
+  lengths_.measured = false;
+  if (surface.empty()) return lengths_;
+  // The hits measure() found for this pose (hits_ has been reused since).
+  load_capsules(model, result_.joints, surface.voxel_mm());
+  measure_lengths(surface, model, nearest_all(surface.points(), 1));
+  return lengths_;
 }
 
 void HullTracker::measure_lengths(const HullSurface& surface, const BodyModel& model,
@@ -491,7 +499,7 @@ void HullTracker::measure_lengths(const HullSurface& surface, const BodyModel& m
       h.block<3, 3>(kNumBones, kNumBones) + 1e-6 * Eigen::Matrix3d::Identity();
   const Eigen::Matrix<double, kNumBones, 3> k_lt =
       h.block<kNumBones, 3>(0, kNumBones) * htt.inverse();
-  LengthEvidence& e = result_.lengths;
+  LengthEvidence& e = lengths_;
   e.hessian =
       h.block<kNumBones, kNumBones>(0, 0) - k_lt * h.block<kNumBones, 3>(0, kNumBones).transpose();
   e.gradient = g.head<kNumBones>() - k_lt * g.tail<3>();

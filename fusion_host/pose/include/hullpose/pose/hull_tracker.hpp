@@ -134,10 +134,8 @@ struct TrackResult {
   JointPositions joints{};
   std::array<float, kNumJoints> confidence{};
   HullScore score;
-  // Measurements for the body model: the lengths' Gauss-Newton evidence (when asked for, see
-  // HullTracker::set_measure_lengths) and each bone's mean surface distance (NaN where not
-  // measured this frame).
-  LengthEvidence lengths;
+  // Each bone's mean surface distance, for the body model (NaN where not measured this frame);
+  // its length evidence is HullTracker::length_evidence().
   std::array<double, kNumBones> radius_mm{};
 };
 
@@ -180,10 +178,13 @@ class HullTracker {
   // One frame: predict, fit to `surface` (of at most TrackParams::max_points points), score.
   // Keeps the result as the new state.
   const TrackResult& track(const HullSurface& surface, const BodyModel& model, Detected detected);
-  // Whether track() also computes the length evidence (the body model needs it only until it
-  // is held; it costs ~100 multiply-adds per surface point, and a nearest-point search per
-  // capsule axis sample the hull rules out).
-  void set_measure_lengths(bool on) { measure_lengths_ = on; }
+  // The body model's evidence on the bone lengths at the last tracked pose (result().joints,
+  // tracked against `surface` with `model`): Gauss-Newton on the fit's robust residuals. On
+  // demand, not in track(): it costs a pass of every surface point over the capsules, ~100
+  // multiply-adds per point and a nearest-point search per capsule axis sample the hull rules
+  // out, and the model learns from few frames (confident ones, until it is held), while a frame
+  // may track several candidates.
+  const LengthEvidence& length_evidence(const HullSurface& surface, const BodyModel& model);
   // Scores any pose against the surface with this tracker's capsules (no state change).
   HullScore score(const HullSurface& surface, const BodyModel& model,
                   const JointPositions& pose) const;
@@ -218,10 +219,11 @@ class HullTracker {
 
   TrackParams params_;
   Shake shake_;
-  bool active_ = false, measure_lengths_ = false;
+  bool active_ = false;
   JointPositions previous_{}, before_previous_{};
   bool has_velocity_ = false;
   TrackResult result_;
+  LengthEvidence lengths_;
   // Capsules of the current pose, structure of arrays: nearest_all broadcasts one capsule to 16
   // points at a time (points x bones x iterations: the tracker's largest loop).
   struct Capsules {
