@@ -60,6 +60,39 @@ TEST_CASE(
   CHECK(all.empty());
 }
 
+TEST_CASE("hull surface: the nearest point is the full scan's, at every stride") {
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel model = BodyModel::from_stature(kStature);
+  const JointPositions body = stick_figure(kStature, arms_down(), {20, 0, 0, 0});
+  fusion::BitGrid hull;
+  capsule_hull(g, body, model, hull);
+  HullSurface surface(1000);
+  surface.extract(&hull, g);
+  const auto points = surface.points();
+  REQUIRE(points.size() > 500);
+  // The full scan: the first of the nearest among points 0, stride, 2 stride, ...
+  auto scan = [&](const Eigen::Vector3d& mm, size_t stride) {
+    const Eigen::Vector3f p = mm.cast<float>();
+    size_t best = 0;
+    for (size_t k = 0; k < points.size(); k += stride)
+      if ((points[k] - p).squaredNorm() < (points[best] - p).squaredNorm()) best = k;
+    return points[best].cast<double>();
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> xy(-1200, 1200), z(-300, 2300);
+  int n = 0;
+  for (size_t stride : {1, 2, 3, 7}) {
+    for (int i = 0; i < 300; ++i) {
+      // Anywhere in and around the grid, and exactly on surface points (ties at distance 0).
+      const Eigen::Vector3d q = i % 10 == 0
+                                    ? points[static_cast<size_t>(i) % points.size()].cast<double>()
+                                    : Eigen::Vector3d(xy(rng), xy(rng), z(rng));
+      n += surface.nearest(q, stride) == scan(q, stride);
+    }
+  }
+  CHECK(n == 4 * 300);
+}
+
 TEST_CASE("tracking pulls a displaced model back onto the hull of the true pose") {
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel model = BodyModel::from_stature(kStature);

@@ -105,6 +105,41 @@ void HullSurface::extract(const fusion::BitGrid* hull_or_null, const VoxelGridSp
   }
 }
 
+// The points are in scan order, z outermost, so sorted by height: the search starts at `mm`'s
+// height and goes up and down from it, each way until a point's height difference alone puts it
+// farther than the nearest found (and so every point beyond it). Exact, as the full scan: the
+// same float distances, and ties to the lower index. The tracker searches for every bone sample
+// the hull rules out, a few tens per ICP iteration: against the full scan, the pose stage's
+// median per frame on 60_01 at 128^3 went 0.97 -> 0.85 ms (replay summary, two runs each).
+Eigen::Vector3d HullSurface::nearest(const Eigen::Vector3d& mm, size_t stride) const {
+  HULLPOSE_ASSERT(count_ > 0 && stride > 0);
+  const Eigen::Vector3f p = mm.cast<float>();
+  float best = std::numeric_limits<float>::max();
+  size_t best_k = 0;
+  auto visit = [&](size_t k) {
+    const Eigen::Vector3f& q = points_[k];
+    const float dz = q.z() - p.z();
+    if (dz * dz > best) return false;
+    const float d2 = (q - p).squaredNorm();
+    if (d2 < best || (d2 == best && k < best_k)) {
+      best = d2;
+      best_k = k;
+    }
+    return true;
+  };
+  const auto first =
+      std::lower_bound(points_.begin(), points_.begin() + static_cast<std::ptrdiff_t>(count_),
+                       p.z(), [](const Eigen::Vector3f& q, float z) { return q.z() < z; });
+  const size_t start = static_cast<size_t>(first - points_.begin());
+  // The first index of the stride at or above `mm`'s height; below it, the one before.
+  const size_t up = (start + stride - 1) / stride * stride;
+  for (size_t k = up; k < count_ && visit(k); k += stride) {
+  }
+  for (size_t k = up; k >= stride && visit(k - stride); k -= stride) {
+  }
+  return points_[best_k].cast<double>();
+}
+
 // The voxel holding `mm` has the voxel centre nearest to it. Unset, that centre lies outside the
 // visual hull, so outside the body: a ball about `mm` that holds it is not the body's. A ball
 // that holds no centre at all says nothing either way: a limb thinner than the voxels is carved
@@ -266,28 +301,13 @@ void HullTracker::pull_inside(const HullSurface& surface, const BodyModel& model
     for (double t : kInsideSamples) {
       const Eigen::Vector3d s = x[pj] + t * (x[cj] - x[pj]);
       if (!surface.excludes(s, model.radius_mm[b])) continue;
-      const Eigen::Vector3d e = nearest_point(points, s, stride) - s;
+      const Eigen::Vector3d e = surface.nearest(s, stride) - s;
       pull_[pj] += w * (1 - t) * e;
       pull_[cj] += w * t * e;
       support_[pj] += w * (1 - t);
       support_[cj] += w * t;
     }
   }
-}
-
-Eigen::Vector3d HullTracker::nearest_point(std::span<const Eigen::Vector3f> points,
-                                           const Eigen::Vector3d& mm, size_t stride) {
-  const Eigen::Vector3f p = mm.cast<float>();
-  float best = std::numeric_limits<float>::max();
-  size_t best_k = 0;
-  for (size_t k = 0; k < points.size(); k += stride) {
-    const float d2 = (points[k] - p).squaredNorm();
-    if (d2 < best) {
-      best = d2;
-      best_k = k;
-    }
-  }
-  return points[best_k].cast<double>();
 }
 
 // Both shoulders are turned back about the spine, through the chest, by the excess.
@@ -487,7 +507,7 @@ void HullTracker::measure_lengths(const HullSurface& surface, const BodyModel& m
     for (double t : kInsideSamples) {
       const Eigen::Vector3d s = a + t * (end - a);
       if (!surface.excludes(s, radius)) continue;
-      const Eigen::Vector3d e = nearest_point(points, s, 1) - s;
+      const Eigen::Vector3d e = surface.nearest(s, 1) - s;
       const double r = e.norm();
       if (r < 1e-3) continue;
       add(b, t, e / r, r, params_.inside_weight);

@@ -108,7 +108,8 @@ bool Shake::sweep_bones(JointPositions& x, const std::array<Eigen::Vector3d, kNu
     const double sigma = r2 - l * l;  // the holonomic constraint, eq. 1
     if constexpr (kMeasure) all_within = all_within && r2 > (*within)[b][0] && r2 < (*within)[b][1];
     // Lagrange factor from sigma'' = 0 to first order; the reference vector is the bone before
-    // this iteration's unconstrained move, unless that move turned it by more than ~60 degrees.
+    // this iteration's unconstrained move, unless that move turned it by more than ~60 degrees
+    // (cos < 1/2, compared squared: no square root per bone and sweep).
     Eigen::Vector3d ref = reference[b];
     const double along = ref.dot(r);
     if (along < 0 || along * along < 0.25 * ref.squaredNorm() * r2) ref = r;
@@ -161,7 +162,8 @@ Shake::Result Shake::solve(JointPositions& x, const ShakeParams& params) const {
   std::array<std::array<double, 2>, kNumBones> within;
   for (int b = 0; b < kNumBones; ++b) {
     const double lo = std::max(0.0, length_[b] - params.bone_tolerance_mm);
-    within[b] = {lo * lo, (length_[b] + params.bone_tolerance_mm) * (length_[b] + params.bone_tolerance_mm)};
+    within[b] = {lo * lo,
+                 (length_[b] + params.bone_tolerance_mm) * (length_[b] + params.bone_tolerance_mm)};
   }
   result.max_bone_error_mm = 0;
   for (int s = 0; s < params.max_bone_sweeps * params.final_sweep_factor; ++s) {

@@ -42,6 +42,9 @@ class HullSurface {
   // Whether the hull rules out a ball of radius_mm about `mm` lying inside the body: the nearest
   // voxel centre is unset and within the ball. No hull: everything is ruled out.
   bool excludes(const Eigen::Vector3d& mm, double radius_mm) const;
+  // The point nearest to `mm` among points 0, stride, 2 stride, ... (the first of them on a tie).
+  // Needs a point.
+  Eigen::Vector3d nearest(const Eigen::Vector3d& mm, size_t stride) const;
   // Height (mm, z) of the top face of the highest hull voxel whose centre lies within radius_mm
   // of `xy` horizontally; NaN when there is none.
   double top_mm(const Eigen::Vector2d& xy, double radius_mm) const;
@@ -196,9 +199,6 @@ class HullTracker {
   void measure(const HullSurface& surface, const BodyModel& model);
   void pull_inside(const HullSurface& surface, const BodyModel& model, const JointPositions& x,
                    size_t stride);
-  // The surface point nearest to `mm` among points 0, stride, 2 stride, ... (at least one).
-  static Eigen::Vector3d nearest_point(std::span<const Eigen::Vector3f> points,
-                                       const Eigen::Vector3d& mm, size_t stride);
   // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
   void limit_twist(const JointPositions& x);
   // Nearest capsule surface for a point: bone, position along the bone's axis, signed distance.
