@@ -16,6 +16,19 @@ using namespace hullpose::pose::test;
 namespace {
 constexpr double kStature = 1750;
 
+// The hull of a capsule body (capsule_hull.hpp) and its surface as the tracker sees it (the
+// surface reads the hull: they live together).
+struct BodyHull {
+  fusion::BitGrid hull;
+  HullSurface surface{1000};
+  BodyHull(const VoxelGridSpec& g, const JointPositions& pose, const BodyModel& model) {
+    capsule_hull(g, pose, model, hull);
+    surface.extract(&hull, g);
+  }
+  BodyHull(const BodyHull&) = delete;
+  BodyHull& operator=(const BodyHull&) = delete;
+};
+
 Limbs arms_down() {
   Limbs l;
   l.l_upper_arm = {0.25, 0, -1};
@@ -64,10 +77,8 @@ TEST_CASE("hull surface: the nearest point is the full scan's, at every stride")
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel model = BodyModel::from_stature(kStature);
   const JointPositions body = stick_figure(kStature, arms_down(), {20, 0, 0, 0});
-  fusion::BitGrid hull;
-  capsule_hull(g, body, model, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, body, model);
+  HullSurface& surface = scene.surface;
   const auto points = surface.points();
   REQUIRE(points.size() > 500);
   // The full scan: the first of the nearest among points 0, stride, 2 stride, ...
@@ -98,10 +109,8 @@ TEST_CASE("tracking pulls a displaced model back onto the hull of the true pose"
   const BodyModel model = BodyModel::from_stature(kStature);
   JointPositions truth = stick_figure(kStature, arms_down(), {20, 0, 0, 0});
   for (auto& p : truth) p.z() += 100;
-  fusion::BitGrid hull;
-  capsule_hull(g, truth, model, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, truth, model);
+  HullSurface& surface = scene.surface;
   // Start 60 mm off sideways with the left arm 25 degrees out.
   JointPositions start = truth;
   for (auto& p : start) p += Eigen::Vector3d(60, -30, 0);
@@ -131,10 +140,8 @@ TEST_CASE("the hull never contradicts the true pose: thin limbs, tips, any voxel
   HullTracker tracker;
   for (int res : {24, 32, 64, 128}) {
     const VoxelGridSpec g = grid_2m(res);
-    fusion::BitGrid hull;
-    capsule_hull(g, truth, model, hull);
-    HullSurface surface(1000);
-    surface.extract(&hull, g);
+    BodyHull scene(g, truth, model);
+    HullSurface& surface = scene.surface;
     INFO(res << "^3, voxel " << g.voxel_mm << " mm");
     CHECK(tracker.score(surface, model, truth).inside == 1.0);
     // ...while a pose beside the body is contradicted.
@@ -157,10 +164,8 @@ TEST_CASE("an arm the previous pose had out in the air is pulled into the hull")
   spread.l_upper_arm = {1, 0, 0};
   spread.l_forearm = {1, 0, 0};
   const JointPositions start = stick_figure(kStature, spread, {0, 0, 0, 0});
-  fusion::BitGrid hull;
-  capsule_hull(g, truth, model, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, truth, model);
+  HullSurface& surface = scene.surface;
   auto hand_error = [&](const JointPositions& p) {
     return (p[index(Joint::LHand)] - truth[index(Joint::LHand)]).norm();
   };
@@ -187,10 +192,8 @@ TEST_CASE("a limb the hull does not show is kept inside the hull, with low confi
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel model = BodyModel::from_stature(kStature);
   const JointPositions truth = stick_figure(kStature, arms_down(), {0, 0, 0, 0});
-  fusion::BitGrid hull;
-  capsule_hull(g, truth, model, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, truth, model);
+  HullSurface& surface = scene.surface;
   HullTracker tracker;
   tracker.start(truth);
   tracker.track(surface, model, {});
@@ -198,8 +201,8 @@ TEST_CASE("a limb the hull does not show is kept inside the hull, with low confi
   // The right forearm and hand vanish from the hull (hidden from a camera: a limb merged into
   // the torso stays inside the hull and is not moved). The hull has no volume where they were:
   // they are drawn to the nearest hull, the right upper arm's, and explain little there.
-  capsule_hull(g, truth, model, hull, {8, 10});
-  surface.extract(&hull, g);
+  capsule_hull(g, truth, model, scene.hull, {8, 10});
+  surface.extract(&scene.hull, g);
   for (int f = 0; f < 10; ++f) tracker.track(surface, model, {});
   const TrackResult& r = tracker.result();
   auto error = [&](Joint j) { return (r.joints[index(j)] - truth[index(j)]).norm(); };
@@ -246,10 +249,8 @@ TEST_CASE(
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel model = BodyModel::from_stature(kStature);
   const JointPositions truth = stick_figure(kStature, arms_down());
-  fusion::BitGrid hull;
-  capsule_hull(g, truth, model, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, truth, model);
+  HullSurface& surface = scene.surface;
   auto track = [&](const JointPositions& start, const TrackParams& params) {
     HullTracker tracker(params);
     tracker.start(start);
@@ -332,10 +333,8 @@ TEST_CASE("a frame's length evidence pulls in a bone that reaches beyond the hul
   const VoxelGridSpec g = grid_2m(128);
   const BodyModel body = BodyModel::from_stature(kStature);
   const JointPositions truth = stick_figure(kStature, arms_down(), {0, 0, 0, 0});
-  fusion::BitGrid hull;
-  capsule_hull(g, truth, body, hull);
-  HullSurface surface(1000);
-  surface.extract(&hull, g);
+  BodyHull scene(g, truth, body);
+  HullSurface& surface = scene.surface;
   const int forearm = 8;  // RElb -> RHand: held forward, its extension is in the air
   BodyModel long_arm = body;
   long_arm.length_mm[forearm] *= 1.3;
