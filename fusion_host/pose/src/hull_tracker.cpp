@@ -440,7 +440,7 @@ const LengthEvidence& HullTracker::length_evidence(const HullSurface& surface,
                                                    const BodyModel& model) {
   lengths_.measured = false;
   if (surface.empty()) return lengths_;
-  // The hits measure() found for this pose (hits_ has been reused since).
+  // measure()'s hits for this pose, found again: hits_ has served other calls since.
   load_capsules(model, result_.joints, surface.voxel_mm());
   measure_lengths(surface, model, nearest_all(surface.points(), 1));
   return lengths_;
