@@ -88,8 +88,8 @@ def pooled(rows):
     """The clips' figures over all their in-volume frames together: valid % of all of them, and
     MPJPE and hands+feet weighted by each clip's scored (valid) frames. One clip's figure can move
     by ~10 mm when a single frame's arbitration sends its tracking down another path; pooled over
-    every clip such swings mostly cancel, so a change to the pose stage is judged by these first
-    (docs/perf-log.md, session 24)."""
+    every clip such swings partly cancel (about +-2 mm without the salsa pair), so a change to the
+    pose stage is judged by these first (docs/perf-log.md, session 24)."""
     frames = sum(r["frames"] for r in rows)
     scored = [(r["frames"] * r["valid_pct"] / 100, r) for r in rows if r["valid_pct"] is not None]
     n = sum(w for w, _ in scored)
