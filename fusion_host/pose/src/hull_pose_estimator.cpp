@@ -184,10 +184,18 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, const Hull
 // distance by a few per cent of the stature only. Where a limb's bottom-up tip lies beyond the
 // distance at which it would pull the tracked tip (TrackParams::detect_agree_ratio), the frame
 // is tracked again from the state before it with that limb started at its reading, hung from
-// the predicted root. The best of these replaces the tracked pose when it explains more of the
-// hull without putting more of the body outside it (neither part of the score falls: a limb
-// that only trades one for the other is no better read); then the other limbs are tried again
-// on top of it, as more than one can be wrong at once (both arms, on the salsa clips). The rest
+// the predicted root. The one that explains most of the hull replaces the tracked pose if it
+// explains more than the tracked pose does; then the other limbs are tried again on top of it,
+// as more than one can be wrong at once (both arms, on the salsa clips). The inside part of the
+// score does not judge here: it rewards a limb hidden in the trunk, where nothing rules it out,
+// over one that found its own surface but lies partly outside a thin, coarsely carved hand or
+// forearm. 131_02's right forearm stayed buried in the trunk for frames 150-261 at 128^3 while
+// the reading's arm, tracked, came within 8-17 mm at the finger tip (340 mm for the buried one)
+// and explained more, but put 4-6 more of the 120 axis samples outside the hull. Judged against
+// the ground truth over every limb tried on the shared clips (docs/perf-log.md, session 25), the
+// explained part alone picks the nearer limb more often than both parts together, at 64^3 and
+// 128^3; a reading's limb that the hull does not show explains less and is still not taken
+// (test_pose_recovery). The rest
 // of the body and its velocity are kept, which a restart from the whole bottom-up pose would
 // lose. A reading that faces the other way has its left and right the other way round too: none
 // of its limbs is tried. At most 4 + 3 + 2 + 1 trackings, in frames where limbs disagree.
@@ -197,7 +205,7 @@ bool HullPoseEstimator::try_limbs(const JointPositions& reading, const HullTrack
   unsigned taken = 0;
   for (;;) {
     const TrackResult& now = tracker_.result();
-    double best = now.score.value();
+    double best = now.score.explained;
     unsigned pick = 0;
     for (size_t i = 0; i < kLimbs.size(); ++i) {
       const unsigned bit = 1u << i;
@@ -205,9 +213,8 @@ bool HullPoseEstimator::try_limbs(const JointPositions& reading, const HullTrack
       if ((taken & bit) != 0 || (reading[tip] - now.joints[tip]).norm() <= far) continue;
       limb_.restore(before);
       const HullScore& c = limb_.track(surface_, body_.model(), {&reading, taken | bit}).score;
-      if (c.explained < now.score.explained || c.inside < now.score.inside || c.value() <= best)
-        continue;
-      best = c.value();
+      if (c.explained <= best) continue;
+      best = c.explained;
       pick = bit;
       std::swap(limb_, best_limb_);
     }
