@@ -191,7 +191,7 @@ bool HullPoseEstimator::try_candidate(const JointPositions& detected, const Hull
 // over one that found its own surface but lies partly outside a thin, coarsely carved hand or
 // forearm. 131_02's right forearm stayed buried in the trunk for frames 150-261 at 128^3 while
 // the reading's arm, tracked, came within 8-17 mm at the finger tip (340 mm for the buried one)
-// and explained more, but put 4-6 more of the 120 axis samples outside the hull. Judged against
+// and explained more, but put 4-7 more of the 120 axis samples outside the hull. Judged against
 // the ground truth over every limb tried on the shared clips (docs/perf-log.md, session 25), the
 // explained part alone picks the nearer limb more often than both parts together, at 64^3 and
 // 128^3; a reading's limb that the hull does not show explains less and is still not taken
