@@ -307,32 +307,47 @@ TEST_CASE("the bottom-up reading is tried on the second tracker when the two dis
   CHECK(stage.checked());
 }
 
-TEST_CASE(
-    "a limb held wrongly is taken from the bottom-up reading; one the hull rules out is not") {
-  // The left arm hangs, then is raised sideways in one frame: its hull points lie beyond the
-  // tracker's gate, and the hanging arm it holds is pulled into the trunk's hull, not up. The
-  // whole-body check is off (agree_ratio, check_fraction), so only the limb step can take the
-  // reading's arm.
+// The limb step's setting: the left arm hangs, then is raised sideways in one frame, its hull
+// points beyond the tracker's gate, so that the hanging arm the tracker holds is pulled into the
+// trunk's hull, not up. The whole-body check is off (agree_ratio, check_fraction), so only the
+// limb step can take the reading's arm.
+struct RaisedArm {
   const VoxelGridSpec g = grid_2m(64);
   const BodyModel body = BodyModel::from_stature(kStature);
   Limbs down = t_pose();
-  down.l_upper_arm = down.l_forearm = {0.15, 0, -1};
-  Limbs raised = down;
-  raised.l_upper_arm = raised.l_forearm = {1, 0, 0.5};
+  JointPositions hanging{}, up{};
   HullPoseParams params = stick_params();
-  params.arbiter.agree_ratio = 1;
-  params.arbiter.check_fraction = 0;
-  const JointPositions hanging = stick_figure(kStature, down);
-  const JointPositions up = stick_figure(kStature, raised);
+  RaisedArm() {
+    down.l_upper_arm = down.l_forearm = {0.15, 0, -1};
+    Limbs raised = down;
+    raised.l_upper_arm = raised.l_forearm = {1, 0, 0.5};
+    hanging = stick_figure(kStature, down);
+    up = stick_figure(kStature, raised);
+    params.arbiter.agree_ratio = 1;
+    params.arbiter.check_fraction = 0;
+  }
+  // 30 frames of `pose`, its hull and its skeleton.
+  void hold(HullPoseEstimator& stage, const JointPositions& pose, fusion::BitGrid& hull) const {
+    for (int f = 0; f < 30; ++f) {
+      capsule_hull(g, pose, body, hull);
+      stage.estimate(rasterise(g, pose), &hull, g);
+    }
+  }
+};
+
+TEST_CASE(
+    "a limb held wrongly is taken from the bottom-up reading; one the hull rules out is not") {
+  const RaisedArm arm;
+  const VoxelGridSpec& g = arm.g;
+  const JointPositions& hanging = arm.hanging;
+  const JointPositions& up = arm.up;
+  const HullPoseParams& params = arm.params;
   fusion::BitGrid hull;
   // Settles on the hanging arm, then one frame with this hull and this skeleton (none: empty).
   auto after_settling = [&](HullPoseEstimator& stage, const JointPositions& hull_of,
                             const JointPositions* skeleton_of) {
-    for (int f = 0; f < 30; ++f) {
-      capsule_hull(g, hanging, body, hull);
-      stage.estimate(rasterise(g, hanging), &hull, g);
-    }
-    capsule_hull(g, hull_of, body, hull);
+    arm.hold(stage, hanging, hull);
+    capsule_hull(g, hull_of, arm.body, hull);
     const auto skeleton =
         skeleton_of != nullptr ? rasterise(g, *skeleton_of) : std::vector<Eigen::Vector3i>{};
     return stage.estimate(skeleton, &hull, g).joints_mm[index(Joint::LFTip)];
@@ -369,35 +384,18 @@ TEST_CASE("a limb that explains more of the hull is taken though its thin hand w
   // 0.95) but explains the raised arm's surface (0.94 -> 1.00), and is taken: a limb is judged on
   // what it explains. (Judged on both parts, as before, the arm stays in the trunk: the finger
   // tip ends ~1100 mm off.) The whole-body check is off, as above.
-  const VoxelGridSpec g = grid_2m(64);
-  const BodyModel body = BodyModel::from_stature(kStature);
-  Limbs down = t_pose();
-  down.l_upper_arm = down.l_forearm = {0.15, 0, -1};
-  Limbs raised = down;
-  raised.l_upper_arm = raised.l_forearm = {1, 0, 0.5};
-  HullPoseParams params = stick_params();
-  params.arbiter.agree_ratio = 1;
-  params.arbiter.check_fraction = 0;
-  const JointPositions hanging = stick_figure(kStature, down);
-  const JointPositions up = stick_figure(kStature, raised);
-  HullPoseEstimator stage(params);
+  const RaisedArm arm;
+  HullPoseEstimator stage(arm.params);
   fusion::BitGrid hull;
-  for (int f = 0; f < 30; ++f) {
-    capsule_hull(g, hanging, body, hull);
-    stage.estimate(rasterise(g, hanging), &hull, g);
-  }
-  Limbs folded = down;
+  arm.hold(stage, arm.hanging, hull);
+  Limbs folded = arm.down;
   folded.l_upper_arm = {-0.45, 0.15, -1};
   folded.l_forearm = {-0.6, 0.1, 1};
-  const JointPositions across = stick_figure(kStature, folded);
-  for (int f = 0; f < 30; ++f) {
-    capsule_hull(g, across, body, hull);
-    stage.estimate(rasterise(g, across), &hull, g);
-  }
+  arm.hold(stage, stick_figure(kStature, folded), hull);
   constexpr int kHand = 9;  // kBones: the left hand
-  capsule_hull(g, up, body, hull, {kHand});
-  const PoseEstimate& e = stage.estimate(rasterise(g, up), &hull, g);
-  const double tip = (e.joints_mm[index(Joint::LFTip)] - up[index(Joint::LFTip)]).norm();
+  capsule_hull(arm.g, arm.up, arm.body, hull, {kHand});
+  const PoseEstimate& e = stage.estimate(rasterise(arm.g, arm.up), &hull, arm.g);
+  const double tip = (e.joints_mm[index(Joint::LFTip)] - arm.up[index(Joint::LFTip)]).norm();
   INFO("the raised hand's tip " << tip << " mm off, reacquired " << stage.reacquired());
   CHECK(tip < 80);
   CHECK_FALSE(stage.reacquired());
