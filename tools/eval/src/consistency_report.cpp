@@ -182,7 +182,10 @@ std::filesystem::path write_consistency_report(const std::filesystem::path& dir,
     html << "<h3>frame " << f << (e->valid ? "" : " (invalid)") << "</h3>\n";
     for (const CameraModel& cam : rig.cameras) {
       const cv::Mat mask = cv::imread(paths.mask(cam.id, f).string(), cv::IMREAD_GRAYSCALE);
-      const cv::Mat colour = cv::imread(paths.rgb(cam.id, f).string(), cv::IMREAD_COLOR);
+      // Imported silhouette-only captures have no colour frames; imread would warn on each.
+      const std::filesystem::path rgb = paths.rgb(cam.id, f);
+      const cv::Mat colour =
+          std::filesystem::exists(rgb) ? cv::imread(rgb.string(), cv::IMREAD_COLOR) : cv::Mat();
       const bool fits = [&](const cv::Mat& m) {
         return m.empty() || (m.cols == cam.width && m.rows == cam.height);
       }(mask);
