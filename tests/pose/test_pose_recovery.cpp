@@ -44,6 +44,14 @@ void check_left_is_left(const JointPositions& est, const JointPositions& truth) 
   CHECK(own < swapped);
 }
 
+// Standing with the arms hanging at the sides (where a take starts).
+Limbs arms_hanging() {
+  Limbs l = t_pose();
+  l.l_upper_arm = l.l_forearm = {0.15, 0, -1};
+  l.r_upper_arm = l.r_forearm = {-0.15, 0, -1};
+  return l;
+}
+
 HullPoseParams stick_params() {
   HullPoseParams p;
   // A rasterised stick figure reaches the body's tips: no thinning erosion to undo.
@@ -184,9 +192,7 @@ TEST_CASE(
   // floor and raised 200 mm (on a platform: the model stands on the hull's bottom).
   const VoxelGridSpec g = grid_tall(64);
   const BodyModel body = BodyModel::from_stature(kStature);
-  Limbs hanging = t_pose();
-  hanging.l_upper_arm = hanging.l_forearm = {0.15, 0, -1};
-  hanging.r_upper_arm = hanging.r_forearm = {-0.15, 0, -1};
+  const Limbs hanging = arms_hanging();
   fusion::BitGrid hull;
   for (const Limbs& limbs : {hanging, t_pose()})
     for (double yaw : {0.0, 180.0})
@@ -513,4 +519,40 @@ TEST_CASE("a skeleton that reads the subject short does not make the body model 
   // and the start takes the lower face.
   CHECK(stage.body_model().stature_mm() > head_top - 3 * g.voxel_mm);
   CHECK(last.valid);
+}
+
+TEST_CASE("a short reading does not shrink a body model that the hull acquired standing") {
+  // A subject who never shows the tree a clean posture (the salsa clips without their first,
+  // T-pose frame) is acquired from the hull; the first valid reading then reads it ~30 % short,
+  // too short for its hull height over the head to pass as the same subject's (start_stature),
+  // and not upright. The height measured at the hull acquisition still bounds the stature: the
+  // model must not restart at the reading's (it could not grow back out of it, and the frames
+  // after would not explain the hull). The height is over the hull's bottom, not the floor: on a
+  // platform the subject is no taller.
+  const VoxelGridSpec g = grid_tall(64);
+  const BodyModel body = BodyModel::from_stature(kStature);
+  const Limbs hanging = arms_hanging();
+  Limbs raised = hanging;  // a hand above the head: not an upright reading
+  raised.l_upper_arm = raised.l_forearm = {0.2, 0, 1};
+  for (double platform : {0.0, 200.0}) {
+    JointPositions truth = stick_figure(kStature, hanging, {0, 0, 50, -100});
+    JointPositions short_reading = stick_figure(0.7 * kStature, raised, {0, 0, 50, -100});
+    for (JointPositions* p : {&truth, &short_reading})
+      for (Eigen::Vector3d& j : *p) j.z() += platform;
+    fusion::BitGrid hull;
+    capsule_hull(g, truth, body, hull);
+    HullPoseEstimator stage(stick_params());
+    REQUIRE(stage.estimate({}, &hull, g).valid);  // acquired from the hull, from its feet
+    const double acquired = stage.body_model().stature_mm();
+    for (int f = 0; f < 5; ++f) stage.estimate(rasterise(g, short_reading), &hull, g);
+    const double head_top = truth[index(Joint::HeadTop)].z() - platform;
+    INFO("on a " << platform << " mm platform: bottom-up stature "
+                 << stage.bottom_up().last().stature_mm << " mm, model at acquisition " << acquired
+                 << " mm, now " << stage.body_model().stature_mm() << " mm, head top " << head_top
+                 << " mm above the soles");
+    CHECK(stage.bottom_up().last().valid);
+    CHECK(stage.bottom_up().last().stature_mm < 0.8 * kStature);
+    CHECK(stage.body_model().stature_mm() > head_top - 3 * g.voxel_mm);
+    CHECK(stage.body_model().stature_mm() < kStature);
+  }
 }

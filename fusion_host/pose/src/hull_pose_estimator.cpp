@@ -13,6 +13,7 @@
 namespace hullpose::pose {
 namespace {
 using Msg = hullpose_msg::skeleton_t;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The body's left-to-right direction, horizontal: shoulders and hips together.
 Eigen::Vector2d left_to_right(const JointPositions& x) {
@@ -151,9 +152,15 @@ bool HullPoseEstimator::acquire_from_hull(const fusion::BitGrid& hull, const Vox
         tracker_ = candidate_;
       }
     }
-  if (best >= params_.arbiter.min_score) return true;
-  tracker_.stop();
-  return false;
+  if (best < params_.arbiter.min_score) {
+    tracker_.stop();
+    return false;
+  }
+  // The acquired pose stands upright by construction: the hull over its head, above what it
+  // stands on, bounds the stature from below for the readings to come (start_stature).
+  const double h = hull_height(tracker_.result().joints, body_.model().stature_mm(), bottom);
+  if (std::isfinite(h)) acquired_height_ = h;
+  return true;
 }
 
 // Tracks from the bottom-up pose on a second tracker; takes it over when it explains the hull
@@ -234,6 +241,14 @@ bool HullPoseEstimator::try_limbs(const JointPositions& reading, const HullTrack
 // and the median of those heights over the settling frames. Heights outside 0.8-1.35 of the
 // reading are taken for something else (a hand above the head, a cut-off hull): standing height
 // is 0.88-0.96 of the path on the CMU subjects, and 60_01's reading, 25 % short, gives 1.30.
+// The last hull acquisition's height (above what it stood the model on: acquire_from_hull)
+// bounds it too, so a reading shorter still, or not upright, cannot restart the model below
+// it. It is not one of the median's heights: an acquisition stands the model on the hull's
+// bottom, which lies above the floor where thin feet are carved away (08_02 at 128^3: 77 mm),
+// and that one low height lowered the median by a rank (stature error -6.0 -> -8.8 %). The salsa
+// clips replayed without their first (T-pose) frame are acquired from the hull, and their first
+// valid readings, 25 % short with a hand near the head, restarted the model there; it never
+// explained the hull again (60_01: 4.7 % of the frames valid; docs/perf-log.md, session 26).
 double HullPoseEstimator::start_stature(const PoseEstimate& det) {
   const JointPositions& j = det.joints_mm;
   const double head_top = j[index(Joint::HeadTop)].z(), clearance = 0.05 * det.stature_mm;
@@ -244,13 +259,16 @@ double HullPoseEstimator::start_stature(const PoseEstimate& det) {
         j[k].z() > head_top - clearance)
       upright = false;
   }
-  if (upright) {
-    const double h = surface_.top_mm(j[index(Joint::HeadTop)].head<2>(), 0.08 * det.stature_mm) -
-                     surface_.voxel_mm();
-    if (std::isfinite(h) && h > 0.8 * det.stature_mm && h < 1.35 * det.stature_mm)
-      hull_height_ = hull_height_median_.add(h);
-  }
-  return hull_height_median_.count() > 0 ? std::max(det.stature_mm, hull_height_) : det.stature_mm;
+  if (const double h = upright ? hull_height(j, det.stature_mm, 0) : kNaN; std::isfinite(h))
+    hull_height_ = hull_height_median_.add(h);
+  return std::max({det.stature_mm, hull_height_, acquired_height_});
+}
+
+double HullPoseEstimator::hull_height(const JointPositions& upright, double stature_mm,
+                                      double stands_on_mm) const {
+  const double h = surface_.top_mm(upright[index(Joint::HeadTop)].head<2>(), 0.08 * stature_mm) -
+                   surface_.voxel_mm() - stands_on_mm;
+  return h > 0.8 * stature_mm && h < 1.35 * stature_mm ? h : kNaN;
 }
 
 const PoseEstimate& HullPoseEstimator::estimate(std::span<const Eigen::Vector3i> skeleton,

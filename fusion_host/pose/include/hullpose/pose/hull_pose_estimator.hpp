@@ -112,6 +112,9 @@ class HullPoseEstimator {
   double travel_facing(const JointPositions& x) const;
   const JointPositions* reading_for(const PoseEstimate& det, const JointPositions& tracked) const;
   double start_stature(const PoseEstimate& det);
+  // The height of the hull's top over an upright pose's head above `stands_on_mm` (z); NaN
+  // outside 0.8-1.35 of `stature_mm` (start_stature says why).
+  double hull_height(const JointPositions& upright, double stature_mm, double stands_on_mm) const;
 
   HullPoseParams params_;
   PoseEstimator bottom_up_;
@@ -128,9 +131,10 @@ class HullPoseEstimator {
   bool has_output_ = false;
   double score_ = 0, median_score_ = 0;
   RunningMedian<kScoreWindow> score_median_;
-  // Hull heights over the head in upright settling frames (start_stature).
+  // Hull heights over the head in upright settling frames, and at the last hull acquisition
+  // (start_stature).
   RunningMedian<16> hull_height_median_;
-  double hull_height_ = 0;
+  double hull_height_ = 0, acquired_height_ = 0;
   // standing_pose()'s height over its stature (Table 6.7's proportions).
   double standing_height_ratio_ = 0;
   // The hull's centroid (x, y) in the last frames (a ring, newest at newest_), and how many of
