@@ -247,8 +247,8 @@ bool HullPoseEstimator::try_limbs(const JointPositions& reading, const HullTrack
 // bottom, which lies above the floor where thin feet are carved away (08_02 at 128^3: 77 mm),
 // and that one low height lowered the median by a rank (stature error -6.0 -> -8.8 %). The salsa
 // clips replayed without their first (T-pose) frame are acquired from the hull, and their first
-// valid readings, 25 % short with a hand near the head, restarted the model there; it never
-// explained the hull again (60_01: 4.7 % of the frames valid; docs/perf-log.md, session 26).
+// valid readings, 25 % short and not upright, restarted the model there; it never explained the
+// hull again (60_01: 4.7 % of the frames valid; docs/perf-log.md, session 26).
 double HullPoseEstimator::start_stature(const PoseEstimate& det) {
   const JointPositions& j = det.joints_mm;
   const double head_top = j[index(Joint::HeadTop)].z(), clearance = 0.05 * det.stature_mm;
