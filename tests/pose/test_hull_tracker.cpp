@@ -286,6 +286,39 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("the hips are not folded together: pulled to min_hip_ratio of the hip bones apart") {
+  // A hull whose pelvis and legs are one narrow column (both hip joints under the spine, the
+  // legs together) asks a model started with the hips apart to fold them onto each other.
+  const VoxelGridSpec g = grid_2m(64);
+  const BodyModel model = BodyModel::from_stature(kStature);
+  const JointPositions start = stick_figure(kStature, arms_down());
+  JointPositions folded = start;
+  const Eigen::Vector3d mid = 0.5 * (start[index(Joint::LHip)] + start[index(Joint::RHip)]);
+  for (const Limb& leg : {kLimbs[2], kLimbs[3]}) {
+    const Eigen::Vector3d shift = mid - start[index(leg.root())];
+    for (int k = 0; k < leg.size; ++k) folded[index(leg.joints[static_cast<size_t>(k)])] += shift;
+  }
+  BodyHull scene(g, folded, model);
+  double two_hip_bones = 0;
+  for (int b = 0; b < kNumBones; ++b)
+    if (kBones[static_cast<size_t>(b)].parent == Joint::LBack)
+      two_hip_bones += model.length_mm[static_cast<size_t>(b)];
+  auto hips_apart = [&](const TrackParams& params) {
+    HullTracker tracker(params);
+    tracker.start(start);
+    for (int f = 0; f < 10; ++f) tracker.track(scene.surface, model, {});
+    const JointPositions& x = tracker.result().joints;
+    return (x[index(Joint::RHip)] - x[index(Joint::LHip)]).norm() / two_hip_bones;
+  };
+  TrackParams unlimited;
+  unlimited.min_hip_ratio = 0;
+  const double held = hips_apart({}), free = hips_apart(unlimited);
+  INFO("hips apart / two hip bones: " << held << " held, " << free << " without the floor");
+  // A pull, not a hard limit: the hull's points pull the other way.
+  CHECK(held > 0.85 * TrackParams{}.min_hip_ratio);
+  CHECK(free < 0.5 * TrackParams{}.min_hip_ratio);
+}
+
 namespace {
 // The evidence of `points` surface points at the cap of `bone` that lies `target_mm` from its
 // parent, linearised at the model's current lengths (r = current - target, dr/dlength = 1).

@@ -321,6 +321,27 @@ void HullTracker::limit_twist(const JointPositions& x) {
     shake_.add_point(j, chest + back * (x[index(j)] - chest), params_.twist_weight);
 }
 
+namespace {
+constexpr int bone_to(Joint child) {
+  for (int b = 0; b < kNumBones; ++b)
+    if (kBones[static_cast<size_t>(b)].child == child) return b;
+  return -1;
+}
+}  // namespace
+
+void HullTracker::limit_hips(const JointPositions& x, const BodyModel& model) {
+  constexpr int kLeft = bone_to(Joint::LHip), kRight = bone_to(Joint::RHip);
+  static_assert(kLeft >= 0 && kRight >= 0);
+  const double floor = params_.min_hip_ratio * (model.length_mm[kLeft] + model.length_mm[kRight]);
+  const Eigen::Vector3d& l = x[index(Joint::LHip)];
+  const Eigen::Vector3d& r = x[index(Joint::RHip)];
+  const double apart = (r - l).norm();
+  if (apart >= floor || apart < 1e-6) return;
+  const Eigen::Vector3d mid = 0.5 * (l + r), half = 0.5 * floor * (r - l) / apart;
+  shake_.add_point(Joint::LHip, mid - half, params_.twist_weight);
+  shake_.add_point(Joint::RHip, mid + half, params_.twist_weight);
+}
+
 void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
                       const JointPositions& prior, Detected detected) {
   JointPositions& x = result_.joints;
@@ -372,6 +393,7 @@ void HullTracker::fit(const HullSurface& surface, const BodyModel& model,
       }
     }
     limit_twist(x);
+    limit_hips(x, model);
     const JointPositions before = x;
     shake_.solve(x, params_.shake);
     double moved = 0;

@@ -104,6 +104,13 @@ struct TrackParams {
   // and a limit on the head's direction against the spine (75 deg).
   double max_twist_deg = 60;
   double twist_weight = 1;
+  // The hip joints stay at least min_hip_ratio of the two hip bones apart; closer, both are
+  // pulled apart along their line with twist_weight. The hull hardly holds the hips' width (the
+  // pelvis's two capsules hinge on LBack inside one mass), and a fit can fold them together:
+  // 01_01's first fit at 128^3 folded them to 33 mm, the twist measured against that line passed
+  // 90 deg and the arms were swapped (published facing backwards). No body comes near the floor
+  // (the shared clips' truths hold 0.49-0.95), so it binds only on a fold.
+  double min_hip_ratio = 0.3;
   // Weak prior: every joint is also pulled towards its predicted position.
   double prior_weight = 0.05;
   // A bottom-up extremity agrees with the tracked one within this (statures) and then pulls it.
@@ -201,6 +208,8 @@ class HullTracker {
                    size_t stride);
   // Targets that turn the shoulders back within max_twist_deg of the hips (none when within).
   void limit_twist(const JointPositions& x);
+  // Targets that pull the hips apart to min_hip_ratio (none when apart).
+  void limit_hips(const JointPositions& x, const BodyModel& model);
   // Nearest capsule surface for a point: bone, position along the bone's axis, signed distance.
   struct Hit {
     int bone = 0;
