@@ -104,8 +104,9 @@ struct TrackParams {
   // and a limit on the head's direction against the spine (75 deg).
   double max_twist_deg = 60;
   double twist_weight = 1;
-  // The hip joints stay at least min_hip_ratio of the two hip bones apart; closer, both are
-  // pulled apart along their line with twist_weight. The hull hardly holds the hips' width (the
+  // Hip joints closer than min_hip_ratio of the two hip bones are both pulled apart along their
+  // line to that distance, with twist_weight (a pull against the points': they may end a little
+  // closer). The hull hardly holds the hips' width (the
   // pelvis's two capsules hinge on LBack inside one mass), and a fit can fold them together:
   // 01_01's first fit at 128^3 folded them to 33 mm, the twist measured against that line passed
   // 90 deg and the arms were swapped (published facing backwards). No body comes near the floor
