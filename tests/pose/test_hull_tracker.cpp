@@ -299,10 +299,8 @@ TEST_CASE("the hips are not folded together: pulled to min_hip_ratio of the hip 
     for (int k = 0; k < leg.size; ++k) folded[index(leg.joints[static_cast<size_t>(k)])] += shift;
   }
   BodyHull scene(g, folded, model);
-  double two_hip_bones = 0;
-  for (int b = 0; b < kNumBones; ++b)
-    if (kBones[static_cast<size_t>(b)].parent == Joint::LBack)
-      two_hip_bones += model.length_mm[static_cast<size_t>(b)];
+  const double two_hip_bones = model.length_mm[static_cast<size_t>(bone_to(Joint::LHip))] +
+                               model.length_mm[static_cast<size_t>(bone_to(Joint::RHip))];
   auto hips_apart = [&](const TrackParams& params) {
     HullTracker tracker(params);
     tracker.start(start);

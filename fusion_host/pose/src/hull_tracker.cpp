@@ -321,14 +321,6 @@ void HullTracker::limit_twist(const JointPositions& x) {
     shake_.add_point(j, chest + back * (x[index(j)] - chest), params_.twist_weight);
 }
 
-namespace {
-constexpr int bone_to(Joint child) {
-  for (int b = 0; b < kNumBones; ++b)
-    if (kBones[static_cast<size_t>(b)].child == child) return b;
-  return -1;
-}
-}  // namespace
-
 void HullTracker::limit_hips(const JointPositions& x, const BodyModel& model) {
   constexpr int kLeft = bone_to(Joint::LHip), kRight = bone_to(Joint::RHip);
   static_assert(kLeft >= 0 && kRight >= 0);

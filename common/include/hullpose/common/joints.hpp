@@ -87,6 +87,14 @@ inline constexpr std::array<Bone, kNumBones> kBones = {{
     {"Toe", Joint::RFoot, Joint::RToe, 0.033},
 }};
 
+// The index in kBones of the bone that ends at `child`: every joint but the root, Chest, has
+// exactly one (-1 for Chest).
+constexpr int bone_to(Joint child) {
+  for (size_t b = 0; b < kBones.size(); ++b)
+    if (kBones[b].child == child) return static_cast<int>(b);
+  return -1;
+}
+
 // Extremities for the extremity error: head, hands and feet (the thesis' 46.8 mm figure scores
 // hands and feet; hullpose-eval reports that subset too).
 inline constexpr std::array<Joint, 5> kExtremities = {Joint::HeadTop, Joint::LHand, Joint::RHand,

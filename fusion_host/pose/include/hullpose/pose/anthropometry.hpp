@@ -10,9 +10,8 @@ namespace hullpose::pose {
 
 // Length of the bone ending in `child`, in statures (every joint but Chest has one parent bone).
 constexpr double bone_ratio(Joint child) {
-  for (const Bone& b : kBones)
-    if (b.child == child) return b.stature_ratio;
-  return 0;
+  const int b = bone_to(child);
+  return b < 0 ? 0 : kBones[static_cast<size_t>(b)].stature_ratio;
 }
 
 namespace ratio {

@@ -106,11 +106,11 @@ struct TrackParams {
   double twist_weight = 1;
   // Hip joints closer than min_hip_ratio of the two hip bones are both pulled apart along their
   // line to that distance, with twist_weight (a pull against the points': they may end a little
-  // closer). The hull hardly holds the hips' width (the
-  // pelvis's two capsules hinge on LBack inside one mass), and a fit can fold them together:
-  // 01_01's first fit at 128^3 folded them to 33 mm, the twist measured against that line passed
-  // 90 deg and the arms were swapped (published facing backwards). No body comes near the floor
-  // (the shared clips' truths hold 0.49-0.95), so it binds only on a fold.
+  // closer). The hull hardly holds the hips' width (the pelvis's two capsules hinge on LBack
+  // inside one mass), and a fit can fold them together: 01_01's first fit at 128^3 folded them
+  // to 33 mm, the twist measured against that line passed 90 deg and the arms were swapped
+  // (published facing backwards). No body comes near the floor (the shared clips' truths hold
+  // 0.49-0.95), so it binds only on a fold.
   double min_hip_ratio = 0.3;
   // Weak prior: every joint is also pulled towards its predicted position.
   double prior_weight = 0.05;
