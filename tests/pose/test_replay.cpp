@@ -52,6 +52,10 @@ TEST_CASE("--curve-rule selects CK3's curve constraint, ck3 by default") {
   CHECK(parse({"--replay", "d", "--out", "e.csv", "--skeletoniser", "d6i1d"}).fusion.skeletoniser ==
         fusion::Skeletoniser::kD6i1d);
   CHECK_THROWS_WITH(parse({"--replay", "d"}), Catch::Contains("both needed"));
+  CHECK(parse({"--replay", "d", "--out", "e.csv"}).lag.frames == 1);
+  CHECK(parse({"--replay", "d", "--out", "e.csv", "--lag-frames", "0"}).lag.frames == 0);
+  CHECK_THROWS_WITH(parse({"--replay", "d", "--out", "e.csv", "--lag-frames", "2"}),
+                    Catch::Contains("--lag-frames"));
 }
 
 TEST_CASE("a replay runs with every curve rule and writes one estimate per frame") {
@@ -84,5 +88,37 @@ TEST_CASE("a replay runs with every curve rule and writes one estimate per frame
   }
   // The rule reaches the thinning: the skeletons, and so the estimates, differ.
   CHECK((estimates[1] != estimates[0] || estimates[2] != estimates[0]));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE(
+    "a replay writes the rows the live host publishes: every frame once, in order, smoothed "
+    "where it has both neighbours") {
+  const auto dir = temp_dir("lag");
+  synth::SynthConfig config;
+  config.motion = "walk";
+  config.frames = 5;
+  config.out = dir / "data";
+  synth::write_dataset(config);
+  std::vector<std::vector<std::string>> rows;
+  for (const char* lag : {"0", "1"}) {
+    const std::string out = (dir / (std::string("lag") + lag + ".csv")).string();
+    replay::run_replay(parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution",
+                              "64", "--lag-frames", lag}));
+    std::ifstream in(out);
+    rows.emplace_back();
+    for (std::string line; std::getline(in, line);) rows.back().push_back(line);
+  }
+  REQUIRE(rows[0].size() == 1 + 5);
+  REQUIRE(rows[1].size() == 1 + 5);
+  const auto head = [](const std::string& row) {
+    return row.substr(0, row.find(',', row.find(',') + 1));
+  };
+  for (size_t i = 0; i < rows[0].size(); ++i)
+    CHECK(head(rows[0][i]) == head(rows[1][i]));  // frame, valid
+  // The first frame has no frame before it, the last none after it: both as fitted.
+  CHECK(rows[1][1] == rows[0][1]);
+  CHECK(rows[1][5] == rows[0][5]);
+  CHECK(rows[1] != rows[0]);  // the walk's frames between them are smoothed
   std::filesystem::remove_all(dir);
 }

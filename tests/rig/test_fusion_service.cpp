@@ -220,5 +220,70 @@ TEST_CASE("service command line: --help exits 0 before anything opens; bad optio
   CHECK(run({"--rig", "x.yaml", "--max-open", "0"}) == 2);
   CHECK(run({"--rig", "x.yaml", "--deadline-ms", "soon"}) == 2);
   CHECK(run({"--deadline-from", "never", "--rig", "x.yaml"}) == 2);
+  CHECK(run({"--rig", "x.yaml", "--lag-frames", "2"}) == 2);
   CHECK(run({"--resolution", "128"}) == 2);  // no --rig
+}
+
+TEST_CASE("fusion service: each SKELETON waits for the next frame and is smoothed with it") {
+  const Rig rig = testing::make_rig(2, 60, 40);
+  const auto bus = bus::open_bus("memq://");
+  SimClock clock;
+  // Every joint of frame n at x = 10 n + 4 (-1)^n: a steady walk with a frame-to-frame error that
+  // the centred mean of frames n - 1, n, n + 1 (weights 1/4, 1/2, 1/4) takes out.
+  struct Zigzag final : fusion::FramePipeline {
+    void process(const fusion::AssembledFrame& f, fusion::PoseEstimate& out) override {
+      const auto x = static_cast<float>(10 * f.trigger_seq + (f.trigger_seq % 2 == 0 ? 4 : -4));
+      for (auto& p : out.position_mm) p = {x, 0.f, 0.f};
+      out.valid = true;
+    }
+  } pipeline;
+  const int64_t release_us = fusion::ServiceConfig{}.lag_release_us;
+  const auto run = [&](int lag_frames) {
+    fusion::ServiceConfig cfg;
+    cfg.assembler.min_cameras = 2;
+    cfg.assembler.deadline_us = 5'000;
+    cfg.lag.frames = lag_frames;
+    fusion::FusionService service(*bus, clock, rig, pipeline, cfg);
+    Sink sink;
+    const auto skeletons = bus->subscribe(
+        "SKELETON", [&](std::span<const uint8_t> b, const std::string&) { sink.on_skeleton(b); },
+        100);
+    const int64_t t0 = clock.realtime_utime() - 100'000;  // triggered before they arrive
+    for (int64_t seq = 0; seq < 3; ++seq)
+      for (int cam = 0; cam < 2; ++cam)
+        wire::publish(*bus, "SILHOUETTE",
+                      testing::make_silhouette(rig, cam, seq, t0 + seq * 33'333));
+    for (int i = 0; i < 20; ++i) {  // 20 ms: every frame fused, none held past lag_release_us
+      service.step(0);
+      clock.advance(1'000);
+    }
+    while (bus->handle(0)) {
+    }
+    std::map<int64_t, hullpose_msg::skeleton_t> before_release = sink.skeletons;
+    clock.advance(cfg.lag_release_us);
+    service.step(0);
+    while (bus->handle(0)) {
+    }
+    return std::pair{before_release, sink.skeletons};
+  };
+
+  SECTION("--lag-frames 1 (default): one frame late, smoothed; the last released as fitted") {
+    const auto [fused, released] = run(1);
+    REQUIRE(fused.size() == 2);              // frame 2 waits for a frame 3
+    CHECK(fused.at(0).position[0][0] == 4);  // no frame before it
+    CHECK(fused.at(1).position[0][0] == 10);
+    CHECK(fused.at(1).position[24][0] == 10);
+    REQUIRE(released.size() == 3);  // none came within lag_release_us
+    CHECK(released.at(2).position[0][0] == 24);
+    CHECK(released.at(2).published_us >= release_us);  // its 33 ms since the trigger + the wait
+    CHECK(released.at(2).utime == fused.at(0).utime + 2 * 33'333);
+  }
+  SECTION("--lag-frames 0: each frame as soon as it is fused, as fitted") {
+    const auto [fused, released] = run(0);
+    REQUIRE(fused.size() == 3);
+    CHECK(fused.at(0).position[0][0] == 4);
+    CHECK(fused.at(1).position[0][0] == 6);
+    CHECK(fused.at(2).position[0][0] == 24);
+    CHECK(fused.at(2).published_us < release_us);
+  }
 }

@@ -52,7 +52,8 @@ ReplaySummary run_replay(const ReplayOptions& options) {
   std::vector<cv::Mat> views(rig.cameras.size());
   ReplaySummary summary;
   std::vector<double> carve, thin, fused, tree, fit, total;
-  PoseRecord record;
+  PoseRecord record, held;  // held: the frame the lag holds (options.lag)
+  pose::LagSmoother lag(options.lag);
   for (int f = 0; f < frames; ++f) {
     for (size_t c = 0; c < rig.cameras.size(); ++c) {
       const std::filesystem::path mask = paths.mask(rig.cameras[c].id, f);
@@ -82,7 +83,15 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     record.reason = outcome.reason;
     record.model_version = pose.model_version;
     record.joints = pose.joints_mm;
-    writer.write(record);
+    if (options.lag.frames == 0) {
+      writer.write(record);
+    } else {
+      if (const JointPositions* joints = lag.push(record.joints, record.valid, true)) {
+        held.joints = *joints;
+        writer.write(held);
+      }
+      std::swap(held, record);
+    }
 
     const double tree_ms = pose.tree_us * 1e-3, fit_ms = pose.fit_us * 1e-3;
     carve.push_back(hull.timings.carve_ms);
@@ -99,6 +108,10 @@ ReplaySummary run_replay(const ReplayOptions& options) {
     if (!pose.valid) {
       HULLPOSE_LOG(Replay, Debug) << "frame " << f << ": " << pose.detail;
     }
+  }
+  if (const JointPositions* joints = lag.release()) {
+    held.joints = *joints;
+    writer.write(held);
   }
   writer.flush();
   for (const auto& [name, count] : counters.snapshot())
@@ -131,7 +144,8 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "[--threads N]\n"
       "         [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule "
       "ck3|isthmus|endvoxel]\n"
-      "         [--timings FILE] [--pose bottom-up|track] [--smooth-hz HZ (0: off)]\n"
+      "         [--timings FILE] [--pose bottom-up|track] [--smooth-hz HZ (0: off)] [--lag-frames "
+      "1|0]\n"
       "Runs the fusion host's stages offline over a dataset (docs/conventions.md) and writes the "
       "estimates\n"
       "hullpose-eval reads; --timings defaults to FILE.timings.csv; --curve-rule is CK3's curve "
@@ -142,7 +156,10 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
       "bottom-up\n"
       "is that path alone; --smooth-hz puts a One Euro filter with that cut-off at rest on the "
       "published\n"
-      "joints (fusion_host/pose/one_euro.hpp says what it costs).\n");
+      "joints (fusion_host/pose/one_euro.hpp says what it costs); --lag-frames 1 (default) writes "
+      "each frame\n"
+      "smoothed with the next, as the live host publishes it (fusion_host/pose/lag_smoother.hpp), "
+      "0 as fitted.\n");
   line.option("--replay", dataset)
       .option("--out", out)
       .option("--timings", timings)
@@ -166,6 +183,8 @@ std::optional<ReplayOptions> parse_replay_args(int argc, const char* const* argv
                                       "--smooth-hz must not be negative (0: off), got " << v);
                 options.pose.filter.min_cutoff_hz = hz;
               })
+      .option("--lag-frames",
+              [&](const std::string& v) { options.lag.frames = pose::parse_lag_frames(v); })
       .option("--curve-rule", [&](const std::string& v) {
         if (v == "ck3") {
           options.fusion.curve_rule = thin::CurveRule::kCk3;

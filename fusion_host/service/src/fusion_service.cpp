@@ -27,7 +27,8 @@ FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FrameP
       rig_(rig),
       pipeline_(pipeline),
       config_(config),
-      assembler_(rig, config.assembler, [this](const AssembledFrame& f) { on_frame(f); }) {
+      assembler_(rig, config.assembler, [this](const AssembledFrame& f) { on_frame(f); }),
+      lag_(config.lag) {
   skeleton_.rig_id = rig.rig_id;
   skeleton_.subject_id = 0;
   skeleton_.num_joints = kNumJoints;
@@ -35,6 +36,7 @@ FusionService::FusionService(bus::Bus& bus, Clock& clock, const Rig& rig, FrameP
   skeleton_.position.assign(kNumJoints, std::vector<float>(3, 0.f));
   skeleton_.confidence.assign(kNumJoints, 0.f);
   skeleton_.model_version = 0;
+  held_ = skeleton_;
   buffer_.resize(static_cast<size_t>(skeleton_.getEncodedSize()) +
                  1024);         // no allocation per frame
   constexpr int kQueue = 1000;  // a burst of a whole rig's silhouettes while a frame is fused
@@ -111,9 +113,21 @@ void FusionService::on_frame(const AssembledFrame& f) {
   skeleton_.fused_us =
       estimate_.fused_after_us < 0 ? -1 : us_after(received + estimate_.fused_after_us, f.utime);
   skeleton_.published_us = us_after(received + t.elapsed_us(), f.utime);
-  if (!wire::publish(bus_, config_.skeleton_channel, skeleton_, buffer_))
-    counters_.add("publish_error");
-  ++published_;
+  if (config_.lag.frames == 0) {
+    publish_skeleton(skeleton_, nullptr, 0);
+  } else {
+    for (size_t j = 0; j < fitted_.size(); ++j) {
+      const auto& p = estimate_.position_mm[j];
+      fitted_[j] = {p[0], p[1], p[2]};
+    }
+    const int64_t now = clock_.monotonic_us();
+    if (const JointPositions* joints =
+            lag_.push(fitted_, skeleton_.valid, lag_seq_ + 1 == f.trigger_seq))
+      publish_skeleton(held_, joints, now - held_since_us_);
+    std::swap(held_, skeleton_);
+    held_since_us_ = now;
+    lag_seq_ = f.trigger_seq;
+  }
   // After the skeleton: the view's hull never delays the pose.
   if (hull_ && estimate_.hull && estimate_.hull_grid)
     hull_->offer(*estimate_.hull, *estimate_.hull_grid, f.utime, f.trigger_seq);
@@ -129,7 +143,25 @@ void FusionService::step(int timeout_ms) {
     }
   const int64_t now = clock_.monotonic_us();
   assembler_.poll(now);
+  if (lag_.holding() && now - held_since_us_ >= config_.lag_release_us) release_held();
   if (now >= next_status_us_) publish_status(now);
+}
+
+void FusionService::publish_skeleton(hullpose_msg::skeleton_t& s, const JointPositions* joints,
+                                     int64_t waited_us) {
+  if (joints != nullptr && s.valid)
+    for (size_t j = 0; j < joints->size(); ++j)
+      for (int a = 0; a < 3; ++a)
+        s.position[j][static_cast<size_t>(a)] = static_cast<float>((*joints)[j][a]);
+  if (s.published_us != -1)  // -1: unknown (us_after)
+    s.published_us = static_cast<int32_t>(std::min<int64_t>(s.published_us + waited_us, INT32_MAX));
+  if (!wire::publish(bus_, config_.skeleton_channel, s, buffer_)) counters_.add("publish_error");
+  ++published_;
+}
+
+void FusionService::release_held() {
+  const JointPositions* joints = lag_.release();
+  if (joints != nullptr) publish_skeleton(held_, joints, clock_.monotonic_us() - held_since_us_);
 }
 
 void FusionService::run(const std::function<bool()>& keep_going) {
@@ -139,6 +171,7 @@ void FusionService::run(const std::function<bool()>& keep_going) {
 
 void FusionService::flush() {
   assembler_.flush();
+  release_held();
   if (hull_) hull_->drain();
   publish_status(clock_.monotonic_us());
 }

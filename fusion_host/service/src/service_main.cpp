@@ -30,11 +30,11 @@ constexpr const char* kUsage =
     "[--resolution N]\n"
     "    [--tolerance K] [--backend auto|cpu|cuda] [--pose bottom-up|track] [--smooth-hz HZ (0: "
     "off)]\n"
-    "    [--hull-rate HZ (0: off)]\n"
+    "    [--hull-rate HZ (0: off)] [--lag-frames 1|0 (1: one frame late, smoothed)]\n"
     "  or, offline: --replay DIR --out FILE [--resolution N] [--frames N] [--threads N]\n"
     "    [--backend auto|cpu|cuda] [--skeletoniser ck3|d6i1d] [--curve-rule ck3|isthmus|endvoxel] "
     "[--timings FILE]\n"
-    "    [--pose bottom-up|track] [--smooth-hz HZ (0: off)]\n";
+    "    [--pose bottom-up|track] [--smooth-hz HZ (0: off)] [--lag-frames 1|0]\n";
 
 // Empty when --help was asked for.
 std::optional<Options> parse(int argc, const char* const* argv, const char* tool) {
@@ -66,6 +66,8 @@ std::optional<Options> parse(int argc, const char* const* argv, const char* tool
       .option("--pose", o.pipeline.pose)
       .option("--smooth-hz", o.pipeline.smooth_hz)
       .option("--hull-rate", o.service.hull.rate_hz)
+      .option("--lag-frames",
+              [&o](const std::string& v) { o.service.lag.frames = pose::parse_lag_frames(v); })
       .option("--deadline-from", [&a](const std::string& v) {
         HULLPOSE_THROW_UNLESS(v == "first" || v == "trigger",
                               "--deadline-from must be first or trigger, got '" << v << "'");

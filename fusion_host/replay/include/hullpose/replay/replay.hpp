@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "hullpose/fusion_host/pose_pipeline.hpp"
+#include "hullpose/pose/lag_smoother.hpp"
 
 namespace hullpose::replay {
 
@@ -16,6 +17,9 @@ struct ReplayOptions {
   int max_frames = -1;            // all frames of meta.json when negative
   fusion::FusionOptions fusion;
   pose::HullPoseParams pose;
+  // As the live service publishes (ServiceConfig::lag): by default each frame's row is written
+  // once the next frame is fitted, smoothed with its neighbours; the last one as fitted.
+  pose::LagParams lag;
 };
 
 struct ReplaySummary {

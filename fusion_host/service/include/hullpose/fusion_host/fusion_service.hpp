@@ -2,7 +2,8 @@
 // The fusion host's live loop: SILHOUETTE and TRIGGER in (raw bytes, checked before decoding),
 // frames assembled per trigger sequence, the pipeline run on each frame with enough views,
 // SKELETON out for every closed frame (valid or with its reason) with the latency breakdown
-// trigger -> capture -> node done -> received -> fused -> published, STATUS once a second, and,
+// trigger -> capture -> node done -> received -> fused -> published, by default one frame late
+// and smoothed with its neighbours (pose/lag_smoother.hpp), STATUS once a second, and,
 // when asked, the coarse hull at a low rate on HULL (hull_publisher.hpp: its own thread, never
 // in the frame loop's way).
 // Single-threaded: one loop handles the bus and owns the assembler and the pipeline. The bus and
@@ -21,6 +22,7 @@
 #include "hullpose/fusion_host/frame_assembler.hpp"
 #include "hullpose/fusion_host/frame_pipeline.hpp"
 #include "hullpose/fusion_host/hull_publisher.hpp"
+#include "hullpose/pose/lag_smoother.hpp"
 
 namespace hullpose::fusion {
 
@@ -32,6 +34,13 @@ struct ServiceConfig {
   std::string skeleton_channel = "SKELETON";
   std::string status_channel = "STATUS";
   HullPublishOptions hull;  // the optional HULL channel (--hull-rate HZ; off by default)
+  // With lag.frames 1 (--lag-frames; default) a frame's SKELETON waits for the next frame to be
+  // fused and is published smoothed with it; a frame held this long with no next one (the
+  // triggers paused, a take ended) is published as fitted. Five frame periods of the slowest rig
+  // we run (make demo's 10 Hz, where a wait of 100 ms would be a single period and a next frame
+  // a little late would find its predecessor already gone out unsmoothed).
+  pose::LagParams lag;
+  int64_t lag_release_us = 500'000;
 };
 
 class FusionService {
@@ -56,6 +65,11 @@ class FusionService {
 
  private:
   void on_frame(const AssembledFrame& frame);
+  // Publishes `s` with these joints (nullptr: its own) and its published latency grown by
+  // `waited_us`.
+  void publish_skeleton(hullpose_msg::skeleton_t& s, const JointPositions* joints,
+                        int64_t waited_us);
+  void release_held();
   void publish_status(int64_t now_us);
 
   bus::Bus& bus_;
@@ -66,6 +80,13 @@ class FusionService {
   FrameAssembler assembler_;
   std::vector<bus::Subscription> subscriptions_;
   hullpose_msg::skeleton_t skeleton_;
+  // The frame the lag holds (lag.frames 1), as it will be published but for its joints, since
+  // held_since_us_ (monotonic); swapped with skeleton_, so neither allocates per frame.
+  hullpose_msg::skeleton_t held_;
+  int64_t held_since_us_ = 0;
+  int64_t lag_seq_ = -2;  // the trigger sequence of the last frame given to lag_
+  pose::LagSmoother lag_;
+  JointPositions fitted_{};
   hullpose_msg::trigger_t trigger_;
   PoseEstimate estimate_;
   std::vector<uint8_t> buffer_, status_buffer_;
