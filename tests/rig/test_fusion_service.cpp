@@ -238,6 +238,9 @@ TEST_CASE("fusion service: each SKELETON waits for the next frame and is smoothe
     }
   } pipeline;
   const int64_t release_us = fusion::ServiceConfig{}.lag_release_us;
+  // What was published after frames 0-2 were fused, after a pause of lag_release_us, and after
+  // frames 3-4 came.
+  using Published = std::map<int64_t, hullpose_msg::skeleton_t>;
   const auto run = [&](int lag_frames) {
     fusion::ServiceConfig cfg;
     cfg.assembler.min_cameras = 2;
@@ -249,26 +252,30 @@ TEST_CASE("fusion service: each SKELETON waits for the next frame and is smoothe
         "SKELETON", [&](std::span<const uint8_t> b, const std::string&) { sink.on_skeleton(b); },
         100);
     const int64_t t0 = clock.realtime_utime() - 100'000;  // triggered before they arrive
-    for (int64_t seq = 0; seq < 3; ++seq)
-      for (int cam = 0; cam < 2; ++cam)
-        wire::publish(*bus, "SILHOUETTE",
-                      testing::make_silhouette(rig, cam, seq, t0 + seq * 33'333));
-    for (int i = 0; i < 20; ++i) {  // 20 ms: every frame fused, none held past lag_release_us
-      service.step(0);
-      clock.advance(1'000);
-    }
-    while (bus->handle(0)) {
-    }
-    std::map<int64_t, hullpose_msg::skeleton_t> before_release = sink.skeletons;
+    const auto frames = [&](int64_t first, int64_t end) {
+      for (int64_t seq = first; seq < end; ++seq)
+        for (int cam = 0; cam < 2; ++cam)
+          wire::publish(*bus, "SILHOUETTE",
+                        testing::make_silhouette(rig, cam, seq, t0 + seq * 33'333));
+      for (int i = 0; i < 20; ++i) {  // 20 ms: every frame fused, none held past lag_release_us
+        service.step(0);
+        clock.advance(1'000);
+      }
+      while (bus->handle(0)) {
+      }
+      return sink.skeletons;
+    };
+    const Published fused = frames(0, 3);
     clock.advance(cfg.lag_release_us);
     service.step(0);
     while (bus->handle(0)) {
     }
-    return std::pair{before_release, sink.skeletons};
+    const Published released = sink.skeletons;
+    return std::tuple{fused, released, frames(3, 5)};
   };
 
-  SECTION("--lag-frames 1 (default): one frame late, smoothed; the last released as fitted") {
-    const auto [fused, released] = run(1);
+  SECTION("--lag-frames 1 (default): one frame late, smoothed; released as fitted after a pause") {
+    const auto [fused, released, resumed] = run(1);
     REQUIRE(fused.size() == 2);              // frame 2 waits for a frame 3
     CHECK(fused.at(0).position[0][0] == 4);  // no frame before it
     CHECK(fused.at(1).position[0][0] == 10);
@@ -277,13 +284,18 @@ TEST_CASE("fusion service: each SKELETON waits for the next frame and is smoothe
     CHECK(released.at(2).position[0][0] == 24);
     CHECK(released.at(2).published_us >= release_us);  // its 33 ms since the trigger + the wait
     CHECK(released.at(2).utime == fused.at(0).utime + 2 * 33'333);
+    // Frame 3 waits for frame 4 and is smoothed with it and with the released frame 2.
+    REQUIRE(resumed.size() == 4);
+    CHECK(resumed.at(3).position[0][0] == 30);
   }
   SECTION("--lag-frames 0: each frame as soon as it is fused, as fitted") {
-    const auto [fused, released] = run(0);
+    const auto [fused, released, resumed] = run(0);
     REQUIRE(fused.size() == 3);
     CHECK(fused.at(0).position[0][0] == 4);
     CHECK(fused.at(1).position[0][0] == 6);
     CHECK(fused.at(2).position[0][0] == 24);
     CHECK(fused.at(2).published_us < release_us);
+    REQUIRE(resumed.size() == 5);
+    CHECK(resumed.at(3).position[0][0] == 26);
   }
 }
