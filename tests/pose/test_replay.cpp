@@ -1,4 +1,5 @@
-// The offline pipeline's command line and a short end-to-end replay per thinning curve rule.
+// The offline pipeline's command line, a short end-to-end replay per thinning curve rule, and
+// the rows it writes one frame late (--lag-frames).
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,23 @@ std::filesystem::path temp_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// `frames` frames of a built-in motion rendered into dir/data; its path.
+std::filesystem::path render(const std::filesystem::path& dir, const char* motion, int frames) {
+  synth::SynthConfig config;
+  config.motion = motion;
+  config.frames = frames;
+  config.out = dir / "data";
+  synth::write_dataset(config);
+  return config.out;
+}
+
+std::vector<std::string> read_lines(const std::string& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
 }
 
 }  // namespace
@@ -60,30 +78,21 @@ TEST_CASE("--curve-rule selects CK3's curve constraint, ck3 by default") {
 
 TEST_CASE("a replay runs with every curve rule and writes one estimate per frame") {
   const auto dir = temp_dir("curve_rule");
-  synth::SynthConfig config;
-  config.motion = "tpose";
-  config.frames = 2;
-  config.out = dir / "data";
-  synth::write_dataset(config);
+  const std::string data = render(dir, "tpose", 2).string();
 
   std::vector<std::string> estimates;
   for (const char* rule : {"ck3", "isthmus", "endvoxel"}) {
     INFO("rule " << rule);
     const std::string out = (dir / (std::string(rule) + ".csv")).string();
-    const replay::ReplayOptions options =
-        parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution", "64",
-               "--curve-rule", rule});
+    const replay::ReplayOptions options = parse({"--replay", data.c_str(), "--out", out.c_str(),
+                                                 "--resolution", "64", "--curve-rule", rule});
     const replay::ReplaySummary s = replay::run_replay(options);
     CHECK(s.frames == 2);
     if (std::string_view(rule) == "ck3") CHECK(s.valid >= 1);
-    std::ifstream in(out);
-    int lines = 0;
+    const std::vector<std::string> lines = read_lines(out);
+    CHECK(lines.size() == 1 + 2);  // header + one row per frame
     std::string all;
-    for (std::string line; std::getline(in, line);) {
-      ++lines;
-      all += line;
-    }
-    CHECK(lines == 1 + 2);  // header + one row per frame
+    for (const std::string& line : lines) all += line;
     estimates.push_back(all);
   }
   // The rule reaches the thinning: the skeletons, and so the estimates, differ.
@@ -95,19 +104,13 @@ TEST_CASE(
     "a replay writes the rows the live host publishes: every frame once, in order, smoothed "
     "where it has both neighbours") {
   const auto dir = temp_dir("lag");
-  synth::SynthConfig config;
-  config.motion = "walk";
-  config.frames = 5;
-  config.out = dir / "data";
-  synth::write_dataset(config);
+  const std::string data = render(dir, "walk", 5).string();
   std::vector<std::vector<std::string>> rows;
   for (const char* lag : {"0", "1"}) {
     const std::string out = (dir / (std::string("lag") + lag + ".csv")).string();
-    replay::run_replay(parse({"--replay", config.out.c_str(), "--out", out.c_str(), "--resolution",
-                              "64", "--lag-frames", lag}));
-    std::ifstream in(out);
-    rows.emplace_back();
-    for (std::string line; std::getline(in, line);) rows.back().push_back(line);
+    replay::run_replay(parse({"--replay", data.c_str(), "--out", out.c_str(), "--resolution", "64",
+                              "--lag-frames", lag}));
+    rows.push_back(read_lines(out));
   }
   REQUIRE(rows[0].size() == 1 + 5);
   REQUIRE(rows[1].size() == 1 + 5);
